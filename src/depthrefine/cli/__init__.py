@@ -1,0 +1,95 @@
+"""The ``depthrefine`` command (also ``python -m depthrefine``).
+
+One subcommand per module in this package; each module has
+``add_parser(subparsers)`` that registers its parser and sets ``func``, a
+function of the parsed arguments returning an exit status. Commands are thin:
+parse, read with :mod:`depthrefine.io`, call the library, write.
+
+Exit status: 0 success; 2 bad input (one line on stderr naming the file or
+argument and what to do, no traceback, no output left behind); 1 internal
+failure (traceback only with ``--debug``); 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+import traceback
+import warnings
+
+from .. import __version__
+
+__all__ = ["main", "build_parser", "CliError"]
+
+#: Subcommand modules, in the order ``--help`` lists them.
+COMMAND_MODULES = [
+    "_refine",
+]
+
+
+class CliError(Exception):
+    """Bad input found by a command: printed as one line, exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2 (argparse's own status)
+        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="depthrefine",
+        description="Refine a low-resolution ToF depth map with a registered high-resolution color image.",
+    )
+    parser.add_argument("--version", action="version", version=f"depthrefine {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks of internal failures")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    for name in COMMAND_MODULES:
+        importlib.import_module(f"{__name__}.{name}").add_parser(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO, format="%(message)s", stream=sys.stderr)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            warnings.showwarning = _show_warning
+            return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print("depthrefine: interrupted; no output was written.", file=sys.stderr)
+        return 130
+    except (CliError, ValueError, TypeError) as exc:
+        if args.debug:
+            traceback.print_exc()
+        print(f"depthrefine {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"depthrefine {args.command}: error: out of memory; try a smaller image or "
+              "--max-pixels.", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        if args.debug:
+            traceback.print_exc()
+        print(f"depthrefine {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except Exception as exc:  # noqa: BLE001 - the last resort: internal failure
+        if args.debug:
+            traceback.print_exc()
+        print(f"depthrefine {args.command}: internal error: {type(exc).__name__}: {_one_line(exc)} "
+              "(run with --debug for the traceback and report it)", file=sys.stderr)
+        return 1
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"depthrefine: note: {message}", file=sys.stderr)

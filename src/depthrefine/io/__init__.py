@@ -1,0 +1,24 @@
+"""Reading and writing files: the only part of the library (with ``cli``) that touches disk.
+
+See :mod:`depthrefine.io._images` for the representation rules (0 = no
+measurement; the output keeps the input's dtype; color is RGB).
+"""
+
+from ._files import InputFileError, atomic_directory, atomic_write, check_output
+from ._images import DEPTH_SUFFIXES, depth_to_dtype, read_depth, read_rgb, write_depth, write_rgb
+from ._params import read_mapping, read_patch_layout
+
+__all__ = [
+    "InputFileError",
+    "atomic_directory",
+    "atomic_write",
+    "check_output",
+    "DEPTH_SUFFIXES",
+    "depth_to_dtype",
+    "read_depth",
+    "read_rgb",
+    "write_depth",
+    "write_rgb",
+    "read_mapping",
+    "read_patch_layout",
+]

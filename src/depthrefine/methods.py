@@ -1,0 +1,157 @@
+"""The registry of upsampling methods, and :func:`refine`, which looks them up by name.
+
+Every method has one signature::
+
+    func(depth_lr, rgb_hr, *, params=None, progress=None) -> depth_hr
+
+``params`` is an instance of the method's own frozen parameter dataclass
+(``None`` for its defaults; methods without parameters take only ``None``).
+The CLI and the benchmark read this registry, so adding a method is one call
+to :func:`register_method`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from . import baselines
+from .params import RefineParams
+from .refinement import refine_thesis
+
+__all__ = ["Method", "METHODS", "register_method", "get_method", "refine"]
+
+
+@dataclass(frozen=True)
+class Method:
+    """A registered method.
+
+    Attributes
+    ----------
+    name : str
+        The name users pass (``method="thesis"``, ``--method thesis``).
+    func : callable
+        ``func(depth_lr, rgb_hr, *, params=None, progress=None) -> (H, W) float32``.
+    params_type : type or None
+        Frozen dataclass of its parameters, or ``None`` if it has none.
+    summary : str
+        One line for ``--help`` and reports.
+    guided : bool
+        Whether it uses the color image (False for plain interpolation).
+    """
+
+    name: str
+    func: Callable[..., np.ndarray]
+    params_type: type | None
+    summary: str
+    guided: bool = True
+
+    def default_params(self) -> Any:
+        """The method's default parameters (``None`` if it has none)."""
+        return None if self.params_type is None else self.params_type()
+
+
+METHODS: dict[str, Method] = {}
+
+
+def register_method(
+    name: str,
+    func: Callable[..., np.ndarray],
+    *,
+    params_type: type | None = None,
+    summary: str = "",
+    guided: bool = True,
+    replace: bool = False,
+) -> Method:
+    """Add a method to :data:`METHODS` and return its entry.
+
+    Raises ``ValueError`` if ``name`` is taken (unless ``replace=True``).
+    """
+    if not isinstance(name, str) or not name or not name.replace("-", "_").replace("_", "a").isalnum():
+        raise ValueError(f"method name must be a non-empty word (letters, digits, '-', '_'); got {name!r}.")
+    if name in METHODS and not replace:
+        raise ValueError(f"a method named {name!r} is already registered; pass replace=True to replace it.")
+    entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided)
+    METHODS[name] = entry
+    return entry
+
+
+def get_method(name: str) -> Method:
+    """The registered method called ``name``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, listing the known ones.
+    """
+    try:
+        return METHODS[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}.") from None
+
+
+def refine(
+    depth_lr: np.ndarray,
+    rgb_hr: np.ndarray,
+    *,
+    method: str = "thesis",
+    params: Any = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> np.ndarray:
+    """Upsample ``depth_lr`` to the resolution of ``rgb_hr`` with a registered method.
+
+    Parameters
+    ----------
+    depth_lr : (h, w) ndarray
+        Low-resolution depth in any units (uint8, uint16 or float); 0, NaN,
+        inf and negative values mean "no measurement".
+    rgb_hr : (H, W, 3) ndarray
+        Registered high-resolution color image, RGB order (uint8, uint16, or
+        float in [0, 1]).
+    method : str
+        A key of :data:`METHODS`: ``"thesis"`` (default), ``"nearest"``,
+        ``"bilinear"``, ``"bicubic"``, and any later registration.
+    params : dataclass, optional
+        The method's parameters (:class:`RefineParams` for ``"thesis"``);
+        ``None`` for its defaults.
+    progress : callable, optional
+        ``progress(done, total)``, for long runs.
+
+    Returns
+    -------
+    depth_hr : (H, W) float32 ndarray
+        Depth on the color image's grid, in the units of ``depth_lr``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Unknown method, parameters of the wrong type, or bad arrays.
+
+    Examples
+    --------
+    >>> import numpy as np, depthrefine
+    >>> depth_lr = np.full((36, 44), 120, np.uint8)
+    >>> rgb_hr = np.zeros((144, 176, 3), np.uint8)
+    >>> depthrefine.refine(depth_lr, rgb_hr).shape
+    (144, 176)
+    """
+    entry = get_method(method)
+    if params is not None:
+        if entry.params_type is None:
+            raise TypeError(f"method {method!r} takes no parameters; pass params=None.")
+        if not isinstance(params, entry.params_type):
+            raise TypeError(
+                f"method {method!r} takes params of type {entry.params_type.__name__}; "
+                f"got {type(params).__name__}."
+            )
+    return entry.func(depth_lr, rgb_hr, params=params, progress=progress)
+
+
+register_method("thesis", refine_thesis, params_type=RefineParams,
+                summary="the thesis method: per-patch color k-means, histogram correction, "
+                        "per-cluster interpolation (Chen 2014, ch. 4)")
+register_method("nearest", baselines.upsample_nearest, summary="nearest-neighbour enlargement", guided=False)
+register_method("bilinear", baselines.upsample_bilinear, summary="bilinear enlargement", guided=False)
+register_method("bicubic", baselines.upsample_bicubic, summary="bicubic enlargement", guided=False)

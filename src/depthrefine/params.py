@@ -1,0 +1,202 @@
+"""Parameters of the thesis refinement, with the thesis values as defaults.
+
+Every number the thesis gives (chapter 4) or the algorithm spec decides
+(``spec/algorithm.md`` steps 4-8) is a field of :class:`RefineParams`, so a
+run is fully described by one frozen, hashable value that can be written next
+to its output and read back (:meth:`RefineParams.to_dict`,
+:meth:`RefineParams.from_dict`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+__all__ = ["RefineParams", "Rect", "params_from_mapping"]
+
+#: A manual patch: ``(x, y, width, height)`` in color-image pixels
+#: (x = column of the top-left corner, y = its row), OpenCV's ``Rect`` order.
+Rect = tuple[int, int, int, int]
+
+
+@dataclass(frozen=True)
+class RefineParams:
+    """Parameters of the thesis depth refinement (spec steps 4-8).
+
+    Defaults are the thesis values; the section of the thesis each comes from
+    is given in brackets. Lengths on the image grid are in pixels of the color
+    image; depth thresholds are in 8-bit "levels" (see ``level_size``).
+
+    Attributes
+    ----------
+    patches : (int, int)
+        Automatic patch grid, ``(across, down)`` [4.2; spec decision 4 x 4].
+    patch_layout : tuple of (x, y, width, height), optional
+        Manual patch layout in color-image pixels [4.2]. Rectangles are
+        snapped to the depth grid (multiples of the scale factor); where two
+        overlap the later one wins; together they must cover the image.
+        When given, ``patches`` is ignored.
+    median_size : int
+        Side of the square median filter applied to R, G and B [4.3.1: 7].
+    unify_lightness : bool
+        Replace L* by the mean L* of its black / color / white class [4.3.2].
+    black_bound, white_bound : float
+        L* at or below ``black_bound * max_lightness`` is black, at or above
+        ``white_bound * max_lightness`` is white [4.3.2, Fig. 32: 20 %, 80 %].
+    max_lightness : float
+        The "max L*" the bounds refer to [spec decision: 100].
+    lightness_weight : float
+        Weight of L* in the k-means distance [4.3.2; spec decision: 1].
+    n_clusters : int
+        k of k-means, per patch [4.3.3: 4].
+    kmeans_iterations : int
+        Iterations of k-means [4.3.3, left to the user; spec decision: 10].
+    correct_depth : bool
+        Apply the histogram correction of 4.4.4 (snap rare depths to the
+        dominant ones). ``False`` skips it, for analysis; the thesis has it on.
+    dominant_fraction : float
+        A histogram bin whose count exceeds this fraction of the maximum count
+        is dominant too [4.4.4: one half].
+    tolerance_levels : float
+        A depth within this many levels of a dominant value is kept [4.4.4: 5].
+    histogram_bins : int
+        Bins of the per-cluster histogram when the levels are not 8-bit levels
+        [spec decision: 256 over the valid range].
+    level_size : float, optional
+        Depth units per level. ``None`` (default): 1 for ``uint8`` input (one
+        histogram bin per 8-bit level), otherwise ``(max - min) / 255`` of the
+        valid input depths [spec conventions].
+    expansion : int
+        Depth pixels by which each cluster's samples are dilated before
+        interpolation [4.5.2; spec decision: 1].
+    """
+
+    patches: tuple[int, int] = (4, 4)
+    patch_layout: tuple[Rect, ...] | None = None
+    median_size: int = 7
+    unify_lightness: bool = True
+    black_bound: float = 0.20
+    white_bound: float = 0.80
+    max_lightness: float = 100.0
+    lightness_weight: float = 1.0
+    n_clusters: int = 4
+    kmeans_iterations: int = 10
+    correct_depth: bool = True
+    dominant_fraction: float = 0.5
+    tolerance_levels: float = 5.0
+    histogram_bins: int = 256
+    level_size: float | None = None
+    expansion: int = 1
+
+    def __post_init__(self) -> None:
+        # Normalise sequences (from TOML/JSON lists) to tuples so the value
+        # stays hashable, then check every field once, here.
+        patches = _int_tuple("patches", self.patches, 2)
+        object.__setattr__(self, "patches", patches)
+        if min(patches) < 1:
+            raise ValueError(f"patches must be two positive counts (across, down); got {patches}.")
+        if self.patch_layout is not None:
+            layout = tuple(_int_tuple(f"patch_layout[{i}]", r, 4) for i, r in enumerate(self.patch_layout))
+            if not layout:
+                raise ValueError("patch_layout must hold at least one rectangle (x, y, width, height).")
+            for i, (x, y, w, h) in enumerate(layout):
+                if w < 1 or h < 1 or x < 0 or y < 0:
+                    raise ValueError(
+                        f"patch_layout[{i}] = {(x, y, w, h)} is not a rectangle inside the image: "
+                        "x and y must be >= 0, width and height >= 1."
+                    )
+            object.__setattr__(self, "patch_layout", layout)
+        _check_int("median_size", self.median_size, 1)
+        if self.median_size % 2 == 0:
+            raise ValueError(f"median_size must be odd (a centred window); got {self.median_size}.")
+        _check_int("n_clusters", self.n_clusters, 1)
+        _check_int("kmeans_iterations", self.kmeans_iterations, 0)
+        _check_int("histogram_bins", self.histogram_bins, 2)
+        _check_int("expansion", self.expansion, 0)
+        for name in ("unify_lightness", "correct_depth"):
+            if not isinstance(getattr(self, name), bool):
+                raise TypeError(f"{name} must be true or false; got {getattr(self, name)!r}.")
+        for name in ("black_bound", "white_bound", "max_lightness", "lightness_weight",
+                     "dominant_fraction", "tolerance_levels"):
+            _check_float(name, getattr(self, name))
+        if not 0.0 <= self.black_bound < self.white_bound <= 1.0:
+            raise ValueError(
+                "black_bound and white_bound must satisfy 0 <= black_bound < white_bound <= 1; "
+                f"got {self.black_bound} and {self.white_bound}."
+            )
+        if self.max_lightness <= 0:
+            raise ValueError(f"max_lightness must be > 0; got {self.max_lightness}.")
+        if self.lightness_weight < 0:
+            raise ValueError(f"lightness_weight must be >= 0; got {self.lightness_weight}.")
+        if not 0.0 < self.dominant_fraction <= 1.0:
+            raise ValueError(f"dominant_fraction must be in (0, 1]; got {self.dominant_fraction}.")
+        if self.tolerance_levels < 0:
+            raise ValueError(f"tolerance_levels must be >= 0; got {self.tolerance_levels}.")
+        if self.level_size is not None:
+            _check_float("level_size", self.level_size)
+            if self.level_size <= 0:
+                raise ValueError(f"level_size must be > 0 depth units (or unset); got {self.level_size}.")
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON/TOML-ready dict (tuples become lists, ``None`` kept)."""
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+    @classmethod
+    def from_dict(cls, mapping: Mapping[str, Any], *, source: str = "parameters") -> "RefineParams":
+        """Build from a mapping, rejecting unknown keys with the list of known ones."""
+        return params_from_mapping(cls, mapping, source=source)
+
+
+def params_from_mapping(cls: type, mapping: Mapping[str, Any], *, source: str = "parameters"):
+    """Instantiate the dataclass ``cls`` from ``mapping``; unknown keys are an error.
+
+    ``source`` names where the mapping came from (a file) for the message.
+    """
+    if not isinstance(mapping, Mapping):
+        raise TypeError(f"{source} must be a table of key = value pairs; got {type(mapping).__name__}.")
+    known = [f.name for f in dataclasses.fields(cls)]
+    unknown = sorted(set(mapping) - set(known))
+    if unknown:
+        raise ValueError(
+            f"{source}: unknown parameter(s) {', '.join(map(repr, unknown))} for {cls.__name__}; "
+            f"known: {', '.join(known)}."
+        )
+    try:
+        return cls(**dict(mapping))
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"{source}: {exc}") from None
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, tuple):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _int_tuple(name: str, value: Any, length: int) -> tuple[int, ...]:
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != length:
+        raise TypeError(f"{name} must be a list of {length} integers; got {value!r}.")
+    if not all(_is_int(v) for v in value):
+        raise TypeError(f"{name} must hold integers only; got {value!r}.")
+    return tuple(int(v) for v in value)
+
+
+def _check_int(name: str, value: Any, minimum: int) -> None:
+    if not _is_int(value):
+        raise TypeError(f"{name} must be an integer; got {value!r} ({type(value).__name__}).")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}; got {value}.")
+
+
+def _check_float(name: str, value: Any) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise TypeError(f"{name} must be a number; got {value!r} ({type(value).__name__}).")
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite; got {value}.")
+

@@ -1,0 +1,507 @@
+"""The thesis refinement, steps 4-8 of ``spec/algorithm.md`` (thesis chapter 4).
+
+For each patch of the color image and the matching patch of the depth map:
+cluster the colors (4.3), classify the depth samples by the cluster of the
+color pixel they land on and correct rare depths per cluster (4.4), then
+interpolate each cluster's samples on its own and keep only its own pixels
+(4.5). The patches together make the high-resolution depth map (4.1).
+
+Symbols follow the thesis: ``s`` is the integer scale factor, ``k`` the
+number of clusters. Arrays are indexed ``(rows, cols)``; the only ``(x, y)``
+are the manual patch rectangles, in color-image pixels.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy import ndimage
+
+from ._validate import as_depth, check_rgb, valid_range
+from .params import RefineParams
+from .scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
+from .segment import kmeans, median_rgb, rgb_to_lab, unify_lightness
+
+__all__ = [
+    "Refinement",
+    "refine_thesis",
+    "refine_with_intermediates",
+    "patch_grid",
+    "correct_cluster_depths",
+    "ScaleWarning",
+]
+
+#: ``progress(done, total)``: called after each patch.
+Progress = Callable[[int, int], None]
+
+
+class ScaleWarning(UserWarning):
+    """The color/depth ratio is not an integer: the thesis's scale step was applied."""
+
+
+@dataclass(frozen=True)
+class Refinement:
+    """The result of the thesis refinement with every intermediate (for debugging).
+
+    Arrays marked *work grid* have shape ``scale.work_shape`` (= the color
+    image's shape unless the ratio was not an integer, see :mod:`.scale`).
+
+    Attributes
+    ----------
+    depth_hr : (H, W) float32
+        The refined depth on the color image's grid (NaN only if a patch had
+        no valid depth anywhere in reach, which cannot happen for a depth map
+        with one valid pixel).
+    scale : ScaleStep
+        The scale step applied.
+    patches : list of (row0, row1, col0, col1)
+        Patches on the work grid, in processing order.
+    rgb_filtered : (Hw, Ww, 3)
+        Median-filtered color (work grid, input dtype) (4.3.1).
+    lab_unified : (Hw, Ww, 3) float32
+        L*a*b* with unified L* (before the L* weight) (4.3.2).
+    labels : (Hw, Ww) int16
+        Cluster label of each pixel, local to its patch, ``0 .. k'-1`` (4.3.3).
+    patch_index : (Hw, Ww) int16
+        Which patch each pixel belongs to.
+    labels_lr : (h, w) int16
+        The labels sampled at the depth pixels (Fig. 39a) (4.4.2).
+    sparse_depth : (Hw, Ww) float32
+        The spread depth: each depth pixel at its color pixel, NaN elsewhere (4.4.1).
+    corrected_lr : (h, w) float32
+        The depth after the histogram correction (4.4.4); NaN where a depth
+        pixel stayed invalid (its cluster had no valid depth).
+    corrected_sparse : (Hw, Ww) float32
+        ``corrected_lr`` spread on the work grid, NaN elsewhere.
+    cluster_pieces : (k, Hw, Ww) float32
+        Per cluster index ``c``: the expanded, interpolated depth of cluster
+        ``c`` of every patch, before reshaping (NaN out of reach) (4.5.1-4.5.3).
+    level_size : float
+        Depth units per level used by the histogram and tolerance.
+    """
+
+    depth_hr: np.ndarray
+    scale: ScaleStep
+    patches: list[tuple[int, int, int, int]]
+    rgb_filtered: np.ndarray
+    lab_unified: np.ndarray
+    labels: np.ndarray
+    patch_index: np.ndarray
+    labels_lr: np.ndarray
+    sparse_depth: np.ndarray
+    corrected_lr: np.ndarray
+    corrected_sparse: np.ndarray
+    cluster_pieces: np.ndarray
+    level_size: float
+
+
+def refine_thesis(
+    depth_lr: np.ndarray,
+    rgb_hr: np.ndarray,
+    *,
+    params: RefineParams | None = None,
+    progress: Progress | None = None,
+) -> np.ndarray:
+    """Refine ``depth_lr`` to the resolution of ``rgb_hr`` with the thesis method.
+
+    Parameters
+    ----------
+    depth_lr : (h, w) ndarray
+        Low-resolution depth, any units; 0, NaN, inf and negative values mean
+        "no measurement". uint8 input counts one histogram bin per level.
+    rgb_hr : (H, W, 3) uint8, uint16 or float ndarray in [0, 1]
+        Registered color image (RGB order). Gray (H, W) is repeated to three
+        channels; an alpha channel is dropped.
+    params : RefineParams, optional
+        Thesis defaults when omitted.
+    progress : callable, optional
+        ``progress(done, total)`` after each patch.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        Refined depth in the units of ``depth_lr``.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For arrays of the wrong kind, shape or content (see messages).
+
+    References
+    ----------
+    Chen Ching-Kun, "TOF-Sensor Captured Depth Map Refinement Using
+    High-Resolution Color Images", M.S. thesis, NCTU, 2014, chapter 4.
+
+    Examples
+    --------
+    >>> depth = np.array([[10, 10, 50, 50]] * 4, np.uint8)
+    >>> rgb = np.zeros((8, 8, 3), np.uint8); rgb[:, 4:] = 200
+    >>> out = refine_thesis(depth, rgb, params=RefineParams(patches=(1, 1), n_clusters=2))
+    >>> out.shape, out.dtype, out[0].tolist()
+    ((8, 8), dtype('float32'), [10.0, 10.0, 10.0, 10.0, 50.0, 50.0, 50.0, 50.0])
+    """
+    return _run(depth_lr, rgb_hr, params, progress, keep=False).depth_hr
+
+
+def refine_with_intermediates(
+    depth_lr: np.ndarray,
+    rgb_hr: np.ndarray,
+    *,
+    params: RefineParams | None = None,
+    progress: Progress | None = None,
+) -> Refinement:
+    """Like :func:`refine_thesis`, but return every intermediate result too.
+
+    Returns
+    -------
+    Refinement
+        ``.depth_hr`` is identical to :func:`refine_thesis`'s output.
+
+    Examples
+    --------
+    >>> depth = np.full((4, 4), 30, np.uint8)
+    >>> rgb = np.zeros((8, 8, 3), np.uint8)
+    >>> r = refine_with_intermediates(depth, rgb, params=RefineParams(patches=(2, 2)))
+    >>> r.labels.shape, len(r.patches), r.scale.factor
+    ((8, 8), 4, 2)
+    """
+    return _run(depth_lr, rgb_hr, params, progress, keep=True)
+
+
+# ----------------------------------------------------------------------------
+# Step 4: patches
+# ----------------------------------------------------------------------------
+
+
+def patch_grid(depth_shape: tuple[int, int], patches: tuple[int, int]) -> list[tuple[int, int, int, int]]:
+    """Even patch grid on the depth grid: ``(row0, row1, col0, col1)`` per patch.
+
+    ``patches`` is ``(across, down)``. Each patch holds whole depth pixels;
+    a grid finer than the depth map collapses to one patch per depth pixel.
+
+    Examples
+    --------
+    >>> patch_grid((10, 8), (2, 2))
+    [(0, 5, 0, 4), (0, 5, 4, 8), (5, 10, 0, 4), (5, 10, 4, 8)]
+    """
+    h, w = depth_shape
+    across, down = patches
+    rows = np.unique(np.floor(np.linspace(0, h, down + 1) + 0.5).astype(int))
+    cols = np.unique(np.floor(np.linspace(0, w, across + 1) + 0.5).astype(int))
+    return [(int(r0), int(r1), int(c0), int(c1))
+            for r0, r1 in zip(rows[:-1], rows[1:]) for c0, c1 in zip(cols[:-1], cols[1:])]
+
+
+def _manual_patches(
+    layout: tuple[tuple[int, int, int, int], ...], depth_shape: tuple[int, int], color_shape: tuple[int, int]
+) -> tuple[list[tuple[int, int, int, int]], np.ndarray]:
+    """Snap manual rectangles (color pixels) to the depth grid; return them and the owner map."""
+    h, w = depth_shape
+    H, W = color_shape
+    owner = np.full((h, w), -1, dtype=np.int32)
+    out = []
+    for i, (x, y, width, height) in enumerate(layout):
+        if x + width > W or y + height > H:
+            raise ValueError(
+                f"manual patch {i} (x={x}, y={y}, width={width}, height={height}) reaches outside the "
+                f"color image ({W}x{H}); keep every rectangle inside it."
+            )
+        c0 = int(np.floor(x * w / W + 0.5))
+        c1 = int(np.floor((x + width) * w / W + 0.5))
+        r0 = int(np.floor(y * h / H + 0.5))
+        r1 = int(np.floor((y + height) * h / H + 0.5))
+        c1, r1 = max(c1, c0 + 1), max(r1, r0 + 1)
+        c0, r0 = min(c0, w - 1), min(r0, h - 1)
+        c1, r1 = min(c1, w), min(r1, h)
+        owner[r0:r1, c0:c1] = i
+        out.append((r0, r1, c0, c1))
+    missing = np.argwhere(owner < 0)
+    if len(missing):
+        r, c = missing[0]
+        s_r, s_c = H / h, W / w
+        raise ValueError(
+            f"the manual patches leave {len(missing)} depth pixels uncovered, the first near color pixel "
+            f"x={int(c * s_c)}, y={int(r * s_r)}; the rectangles must cover the whole image."
+        )
+    return out, owner
+
+
+# ----------------------------------------------------------------------------
+# Step 6.3-6.4: histogram statistics and correction
+# ----------------------------------------------------------------------------
+
+
+def correct_cluster_depths(
+    values: np.ndarray,
+    *,
+    origin: float,
+    level_size: float,
+    n_bins: int,
+    dominant_fraction: float = 0.5,
+    tolerance_levels: float = 5.0,
+) -> np.ndarray:
+    """Correct the depth samples of one cluster (thesis 4.4.3-4.4.4).
+
+    The histogram has one bin per level: bin ``b`` holds the values nearest to
+    ``origin + b * level_size``. The fullest bin is dominant, and so is every
+    bin whose count exceeds ``dominant_fraction`` of it. A value within
+    ``tolerance_levels`` levels of a dominant value is kept; any other is rare
+    and becomes the nearest dominant value (ties: the lower). NaN (invalid)
+    samples are not counted and become the fullest bin's value.
+
+    Parameters
+    ----------
+    values : (n,) float ndarray
+        The cluster's depth samples (NaN = invalid).
+
+    Returns
+    -------
+    (n,) float64 ndarray
+        Corrected values; all NaN if the cluster has no valid sample.
+
+    Examples
+    --------
+    >>> v = np.array([100, 100, 100, 101, 97, 60, np.nan])
+    >>> correct_cluster_depths(v, origin=0, level_size=1, n_bins=256).tolist()
+    [100.0, 100.0, 100.0, 101.0, 97.0, 100.0, 100.0]
+    """
+    values = np.asarray(values, dtype=np.float64)
+    valid = np.isfinite(values)
+    if not valid.any():
+        return np.full(values.shape, np.nan)
+    bins = np.clip(np.floor((values[valid] - origin) / level_size + 0.5).astype(np.int64), 0, n_bins - 1)
+    counts = np.bincount(bins, minlength=n_bins)
+    peak = counts.max()
+    dominant_bins = np.flatnonzero((counts == peak) | (counts > dominant_fraction * peak))
+    dominant = origin + dominant_bins.astype(np.float64) * level_size
+    out = np.empty_like(values)
+    # The fullest bin (lowest on ties) for invalid samples.
+    out[~valid] = origin + float(np.argmax(counts)) * level_size
+    v = values[valid]
+    dist = np.abs(v[:, None] - dominant[None, :])
+    nearest = np.argmin(dist, axis=1)
+    rare = dist[np.arange(len(v)), nearest] > tolerance_levels * level_size
+    out[valid] = np.where(rare, dominant[nearest], v)
+    return out
+
+
+# ----------------------------------------------------------------------------
+# The pipeline
+# ----------------------------------------------------------------------------
+
+
+def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
+    params = RefineParams() if params is None else params
+    if not isinstance(params, RefineParams):
+        raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
+    depth = as_depth(depth_lr)
+    rgb = check_rgb(rgb_hr)
+    step = plan_scale(depth.shape, rgb.shape)
+    if step.resizes_color:
+        warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
+    s = step.factor
+    h, w = depth.shape
+
+    # Levels: one bin per level; 8-bit input counts 8-bit levels (spec conventions).
+    lo, hi = valid_range(depth)
+    if params.level_size is not None:
+        level_size = float(params.level_size)
+        n_bins = int(np.floor((hi - lo) / level_size + 0.5)) + 1
+    elif np.asarray(depth_lr).dtype == np.uint8:
+        level_size, n_bins = 1.0, int(hi - lo) + 1
+    else:
+        n_bins = params.histogram_bins
+        level_size = (hi - lo) / (n_bins - 1) if hi > lo else 1.0
+
+    # 4.3.1 median (whole image at once; at a patch border the window sees the
+    # neighbouring patch, not a mirrored edge).
+    rgb_work = resize_color(rgb, step)
+    filtered = median_rgb(rgb_work, params.median_size)
+
+    if params.patch_layout is not None:
+        lr_patches, owner = _manual_patches(params.patch_layout, (h, w), step.color_shape)
+    else:
+        lr_patches, owner = patch_grid((h, w), params.patches), None
+
+    rows_w, cols_w = step.work_shape
+    out = np.full((rows_w, cols_w), np.nan, dtype=np.float32)
+    corrected_lr = np.full((h, w), np.nan, dtype=np.float32)
+    labels_lr = np.zeros((h, w), dtype=np.int16)
+    if keep:
+        lab_all = np.zeros((rows_w, cols_w, 3), dtype=np.float32)
+        labels_all = np.zeros((rows_w, cols_w), dtype=np.int16)
+        patch_index = np.zeros((rows_w, cols_w), dtype=np.int16)
+        pieces = np.full((params.n_clusters, rows_w, cols_w), np.nan, dtype=np.float32)
+    # Nearest valid depth anywhere, for patches without any valid sample.
+    nearest_global = _fill_nearest(depth)
+
+    for index, (r0, r1, c0, c1) in enumerate(lr_patches):
+        R0, R1, C0, C1 = r0 * s, r1 * s, c0 * s, c1 * s
+        # 4.3.2-4.3.3: L*a*b*, unified L*, k-means.
+        lab = rgb_to_lab(filtered[R0:R1, C0:C1])
+        if params.unify_lightness:
+            lab = unify_lightness(lab, black_bound=params.black_bound, white_bound=params.white_bound,
+                                  max_lightness=params.max_lightness)
+        feats = lab.reshape(-1, 3).copy()
+        feats[:, 0] *= np.float32(params.lightness_weight)
+        labels_flat, _ = kmeans(feats, params.n_clusters, params.kmeans_iterations)
+        labels = labels_flat.reshape(R1 - R0, C1 - C0)
+        k = int(labels.max()) + 1
+
+        # 4.4.1-4.4.2: spreading and classification: sample (i, j) sits at (i*s + s//2, j*s + s//2).
+        lab_samples = labels[s // 2::s, s // 2::s]
+        d_patch = depth[r0:r1, c0:c1]
+
+        # 4.4.3-4.4.4: per-cluster histogram correction.
+        corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
+        for c in range(k):
+            in_c = lab_samples == c
+            if not in_c.any():
+                continue
+            if params.correct_depth:
+                corrected[in_c] = correct_cluster_depths(
+                    d_patch[in_c], origin=lo, level_size=level_size, n_bins=n_bins,
+                    dominant_fraction=params.dominant_fraction, tolerance_levels=params.tolerance_levels)
+            else:
+                corrected[in_c] = d_patch[in_c]
+
+        # 4.5: per-cluster expansion, interpolation, reshaping, combination.
+        fallback = _fill_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
+        piece_stack = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion, keep)
+        result, per_cluster = piece_stack
+        missing = ~np.isfinite(result)
+        if missing.any():
+            rr, cc = np.nonzero(missing)
+            result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
+
+        own = slice(R0, R1), slice(C0, C1)
+        if owner is None:
+            out[own] = result
+            corrected_lr[r0:r1, c0:c1] = corrected
+            labels_lr[r0:r1, c0:c1] = lab_samples
+        else:
+            mine_lr = owner[r0:r1, c0:c1] == index
+            mine = np.repeat(np.repeat(mine_lr, s, axis=0), s, axis=1)
+            out[own][mine] = result[mine]
+            corrected_lr[r0:r1, c0:c1][mine_lr] = corrected[mine_lr]
+            labels_lr[r0:r1, c0:c1][mine_lr] = lab_samples[mine_lr]
+        if keep:
+            mine = (slice(None), slice(None)) if owner is None else mine
+            lab_all[own][mine] = lab[mine]
+            labels_all[own][mine] = labels[mine]
+            patch_index[own][mine] = index
+            for c in range(k):
+                pieces[c][own][mine] = per_cluster[c][mine]
+        if progress is not None:
+            progress(index + 1, len(lr_patches))
+
+    depth_hr = resize_depth_nearest(out, step.color_shape)
+    hr_patches = [(r0 * s, r1 * s, c0 * s, c1 * s) for r0, r1, c0, c1 in lr_patches]
+    if not keep:
+        empty = np.empty((0,), dtype=np.float32)
+        return Refinement(depth_hr, step, hr_patches, empty, empty, empty, empty, labels_lr,
+                          empty, corrected_lr, empty, empty, level_size)
+    return Refinement(
+        depth_hr=depth_hr, scale=step, patches=hr_patches, rgb_filtered=filtered, lab_unified=lab_all,
+        labels=labels_all, patch_index=patch_index, labels_lr=labels_lr,
+        sparse_depth=_spread(depth, s, step.work_shape), corrected_lr=corrected_lr,
+        corrected_sparse=_spread(corrected_lr, s, step.work_shape), cluster_pieces=pieces,
+        level_size=level_size,
+    )
+
+
+def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep):
+    """Steps 7.1-7.4 for one patch: each pixel interpolated from its own cluster only.
+
+    For cluster ``c``, the valid corrected samples labelled ``c`` are dilated
+    by ``expansion`` depth pixels (new positions take the value of the nearest
+    cluster-``c`` sample), then interpolated bilinearly on the patch's color
+    grid, normalised by the weight of the samples present (so a missing
+    neighbour is never averaged in). Each pixel keeps the value of its own
+    cluster's map. Returns the combined patch (NaN where a pixel's cluster had
+    no sample in reach) and, if ``keep``, the per-cluster maps.
+    """
+    hp, wp = corrected.shape
+    valid = np.isfinite(corrected)
+    values = np.zeros((k, hp, wp), dtype=np.float64)
+    weights = np.zeros((k, hp, wp), dtype=np.float64)
+    square = np.ones((3, 3), dtype=bool)
+    for c in range(k):
+        mask = valid & (lab_samples == c)
+        if not mask.any():
+            continue
+        if expansion > 0 and not mask.all():
+            _, (ir, ic) = ndimage.distance_transform_edt(~mask, return_indices=True)
+            grown = ndimage.binary_dilation(mask, structure=square, iterations=expansion)
+            values[c] = np.where(grown, corrected[ir, ic], 0.0)
+            weights[c] = grown
+        else:
+            values[c] = np.where(mask, corrected, 0.0)
+            weights[c] = mask
+
+    # Bilinear weights along rows and columns; sample i sits at i*s + s//2.
+    i0, i1, fr = _axis_weights(labels.shape[0], s, hp)
+    j0, j1, fc = _axis_weights(labels.shape[1], s, wp)
+    lab = labels.astype(np.intp)
+    flat_v = values.reshape(-1)
+    flat_w = weights.reshape(-1)
+    base = lab * (hp * wp)
+    num = np.zeros(labels.shape, dtype=np.float64)
+    den = np.zeros(labels.shape, dtype=np.float64)
+    for ri, wr in ((i0, 1.0 - fr), (i1, fr)):
+        for cj, wc in ((j0, 1.0 - fc), (j1, fc)):
+            idx = base + (ri[:, None] * wp + cj[None, :])
+            wgt = wr[:, None] * wc[None, :] * flat_w[idx]
+            num += wgt * flat_v[idx]
+            den += wgt
+    with np.errstate(invalid="ignore", divide="ignore"):
+        result = np.where(den > 0, num / den, np.nan).astype(np.float32)
+
+    per_cluster = None
+    if keep:
+        per_cluster = np.full((k,) + labels.shape, np.nan, dtype=np.float32)
+        for c in range(k):
+            n = np.zeros(labels.shape)
+            d = np.zeros(labels.shape)
+            for ri, wr in ((i0, 1.0 - fr), (i1, fr)):
+                for cj, wc in ((j0, 1.0 - fc), (j1, fc)):
+                    wgt = wr[:, None] * wc[None, :] * weights[c][ri[:, None], cj[None, :]]
+                    n += wgt * values[c][ri[:, None], cj[None, :]]
+                    d += wgt
+            with np.errstate(invalid="ignore", divide="ignore"):
+                per_cluster[c] = np.where(d > 0, n / d, np.nan)
+    return result, per_cluster
+
+
+def _axis_weights(n_hr: int, s: int, n_lr: int):
+    """For HR positions 0..n_hr-1: the two neighbouring samples and the weight of the second."""
+    t = (np.arange(n_hr, dtype=np.float64) - (s // 2)) / s
+    i0 = np.clip(np.floor(t).astype(np.intp), 0, n_lr - 1)
+    i1 = np.minimum(i0 + 1, n_lr - 1)
+    frac = np.clip(t - i0, 0.0, 1.0)
+    frac[i1 == i0] = 0.0
+    return i0, i1, frac
+
+
+def _nearest_sample(hr_index: np.ndarray, s: int, n_lr: int) -> np.ndarray:
+    """Index of the depth sample nearest to HR positions along one axis."""
+    return np.clip(np.floor((hr_index - s // 2) / s + 0.5).astype(np.intp), 0, n_lr - 1)
+
+
+def _fill_nearest(depth: np.ndarray) -> np.ndarray:
+    """Every pixel takes the value of the nearest finite pixel (Euclidean, on the depth grid)."""
+    valid = np.isfinite(depth)
+    if valid.all():
+        return depth
+    _, (ir, ic) = ndimage.distance_transform_edt(~valid, return_indices=True)
+    return depth[ir, ic]
+
+
+def _spread(depth_lr: np.ndarray, s: int, shape: tuple[int, int]) -> np.ndarray:
+    """Spreading (4.4.1): depth pixel (i, j) at (i*s + s//2, j*s + s//2), NaN elsewhere."""
+    sparse = np.full(shape, np.nan, dtype=np.float32)
+    sparse[s // 2::s, s // 2::s] = depth_lr[: len(range(s // 2, shape[0], s)), : len(range(s // 2, shape[1], s))]
+    return sparse
