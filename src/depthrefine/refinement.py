@@ -20,10 +20,10 @@ from typing import Callable
 import numpy as np
 from scipy import ndimage
 
-from ._validate import as_depth, check_rgb, valid_range
+from ._validate import as_depth, check_pixels, check_rgb, valid_range
 from .params import RefineParams
 from .scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
-from .segment import kmeans, median_rgb, rgb_to_lab, unify_lightness
+from .segment import cluster_colors, lab8, median_rgb
 
 __all__ = [
     "Refinement",
@@ -206,7 +206,7 @@ def _manual_patches(
     for i, (x, y, width, height) in enumerate(layout):
         if x + width > W or y + height > H:
             raise ValueError(
-                f"manual patch {i} (x={x}, y={y}, width={width}, height={height}) reaches outside the "
+                f"manual patch {i} (patch_layout / --patch-file: x={x}, y={y}, width={width}, height={height}) reaches outside the "
                 f"color image ({W}x{H}); keep every rectangle inside it."
             )
         c0 = int(np.floor(x * w / W + 0.5))
@@ -299,6 +299,7 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
         raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
     depth = as_depth(depth_lr)
     rgb = check_rgb(rgb_hr)
+    check_pixels(rgb.shape, name="rgb_hr")
     step = plan_scale(depth.shape, rgb.shape)
     if step.resizes_color:
         warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
@@ -320,6 +321,8 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
     # neighbouring patch, not a mirrored edge).
     rgb_work = resize_color(rgb, step)
     filtered = median_rgb(rgb_work, params.median_size)
+    # 4.3.2 L*a*b* (per pixel, so once for the whole image), as 8-bit codes.
+    lab_codes = lab8(filtered)
 
     if params.patch_layout is not None:
         lr_patches, owner = _manual_patches(params.patch_layout, (h, w), step.color_shape)
@@ -340,15 +343,12 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
 
     for index, (r0, r1, c0, c1) in enumerate(lr_patches):
         R0, R1, C0, C1 = r0 * s, r1 * s, c0 * s, c1 * s
-        # 4.3.2-4.3.3: L*a*b*, unified L*, k-means.
-        lab = rgb_to_lab(filtered[R0:R1, C0:C1])
-        if params.unify_lightness:
-            lab = unify_lightness(lab, black_bound=params.black_bound, white_bound=params.white_bound,
-                                  max_lightness=params.max_lightness)
-        feats = lab.reshape(-1, 3).copy()
-        feats[:, 0] *= np.float32(params.lightness_weight)
-        labels_flat, _ = kmeans(feats, params.n_clusters, params.kmeans_iterations)
-        labels = labels_flat.reshape(R1 - R0, C1 - C0)
+        # 4.3.2-4.3.3: unified L*, k-means.
+        clustered = cluster_colors(
+            lab_codes[R0:R1, C0:C1], n_clusters=params.n_clusters, iterations=params.kmeans_iterations,
+            unify=params.unify_lightness, black_bound=params.black_bound, white_bound=params.white_bound,
+            max_lightness=params.max_lightness, lightness_weight=params.lightness_weight, return_features=keep)
+        labels, lab = clustered if keep else (clustered, None)
         k = int(labels.max()) + 1
 
         # 4.4.1-4.4.2: spreading and classification: sample (i, j) sits at (i*s + s//2, j*s + s//2).
@@ -445,20 +445,39 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     # Bilinear weights along rows and columns; sample i sits at i*s + s//2.
     i0, i1, fr = _axis_weights(labels.shape[0], s, hp)
     j0, j1, fc = _axis_weights(labels.shape[1], s, wp)
-    lab = labels.astype(np.intp)
-    flat_v = values.reshape(-1)
-    flat_w = weights.reshape(-1)
-    base = lab * (hp * wp)
-    num = np.zeros(labels.shape, dtype=np.float64)
-    den = np.zeros(labels.shape, dtype=np.float64)
-    for ri, wr in ((i0, 1.0 - fr), (i1, fr)):
-        for cj, wc in ((j0, 1.0 - fc), (j1, fc)):
-            idx = base + (ri[:, None] * wp + cj[None, :])
-            wgt = wr[:, None] * wc[None, :] * flat_w[idx]
-            num += wgt * flat_v[idx]
-            den += wgt
-    with np.errstate(invalid="ignore", divide="ignore"):
-        result = np.where(den > 0, num / den, np.nan).astype(np.float32)
+
+    # Fast path: where a pixel's four samples are valid and all in its own
+    # cluster, the normalised interpolation is plain bilinear interpolation.
+    # (The a + f * (b - a) form keeps a constant exactly constant.)
+    filled = np.where(valid, corrected, 0.0).astype(np.float32)
+    left = filled[:, j0]
+    along_cols = left + fc.astype(np.float32) * (filled[:, j1] - left)
+    top = along_cols[i0]
+    result = top + fr.astype(np.float32)[:, None] * (along_cols[i1] - top)
+    below = np.minimum(np.arange(hp) + 1, hp - 1)
+    right = np.minimum(np.arange(wp) + 1, wp - 1)
+    lab_valid = np.where(valid, lab_samples, -1)
+    uniform = ((lab_valid == lab_valid[below]) & (lab_valid == lab_valid[:, right])
+               & (lab_valid == lab_valid[below][:, right]))
+    cell_label = np.where(uniform, lab_valid, -1).astype(np.int16)
+    rr, cc = np.nonzero(cell_label[i0][:, j0] != labels)
+
+    # Other pixels: each corner counts only if it holds a sample of the
+    # pixel's cluster (after expansion); weights renormalised.
+    if rr.size:
+        flat_v = values.reshape(-1)
+        flat_w = weights.reshape(-1)
+        base = labels[rr, cc].astype(np.intp) * (hp * wp)
+        num = np.zeros(rr.size)
+        den = np.zeros(rr.size)
+        for ri, wr in ((i0[rr], 1.0 - fr[rr]), (i1[rr], fr[rr])):
+            for cj, wc in ((j0[cc], 1.0 - fc[cc]), (j1[cc], fc[cc])):
+                idx = base + ri * wp + cj
+                wgt = wr * wc * flat_w[idx]
+                num += wgt * flat_v[idx]
+                den += wgt
+        with np.errstate(invalid="ignore", divide="ignore"):
+            result[rr, cc] = np.where(den > 0, num / den, np.nan)
 
     per_cluster = None
     if keep:

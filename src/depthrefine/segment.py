@@ -7,13 +7,25 @@ All functions are pure: arrays in, new arrays out.
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import cv2
 import numpy as np
 from scipy import ndimage
 
 from ._validate import as_rgb_float, check_positive_int
 
-__all__ = ["median_rgb", "rgb_to_lab", "unify_lightness", "kmeans", "initial_means"]
+__all__ = [
+    "median_rgb",
+    "rgb_to_lab",
+    "lab8",
+    "lightness_classes",
+    "unify_lightness",
+    "kmeans",
+    "initial_means",
+    "cluster_colors",
+]
 
 
 def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
@@ -43,12 +55,74 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         raise ValueError(f"median_size must be odd; got {size}.")
     if size == 1:
         return rgb.copy()
-    if rgb.dtype == np.uint8 or (size <= 5 and rgb.dtype in (np.uint16, np.float32)):
+    if rgb.dtype == np.uint8:
+        return _median_uint8_parallel(rgb, size)
+    if size <= 5 and rgb.dtype in (np.uint16, np.float32):
         return cv2.medianBlur(np.ascontiguousarray(rgb), size)
     out = np.empty_like(rgb)
     for ch in range(rgb.shape[2]):
         ndimage.median_filter(rgb[:, :, ch], size=size, mode="nearest", output=out[:, :, ch])
     return out
+
+
+def _median_uint8_parallel(rgb: np.ndarray, size: int) -> np.ndarray:
+    """``cv2.medianBlur`` per channel on row strips in threads; identical to one call.
+
+    Each strip is filtered with ``size // 2`` extra rows of real image above and
+    below, which are then dropped, so only the true image border is replicated.
+    """
+    rows = rgb.shape[0]
+    halo = size // 2
+    n_strips = max(1, min(os.cpu_count() or 1, 8, rows // (4 * size) or 1))
+    bounds = np.linspace(0, rows, n_strips + 1).astype(int)
+    out = np.empty_like(rgb)
+
+    def job(task: tuple[int, int]) -> None:
+        ch, i = task
+        r0, r1 = int(bounds[i]), int(bounds[i + 1])
+        a0, a1 = max(0, r0 - halo), min(rows, r1 + halo)
+        filtered = cv2.medianBlur(np.ascontiguousarray(rgb[a0:a1, :, ch]), size)
+        out[r0:r1, :, ch] = filtered[r0 - a0:r1 - a0]
+
+    tasks = [(ch, i) for ch in range(rgb.shape[2]) for i in range(n_strips)]
+    with ThreadPoolExecutor(max_workers=min(len(tasks), os.cpu_count() or 1)) as pool:
+        list(pool.map(job, tasks))
+    return out
+
+
+def lab8(rgb: np.ndarray) -> np.ndarray:
+    """CIE L*a*b* in OpenCV's 8-bit encoding: ``(L* * 255/100, a* + 128, b* + 128)``, uint8.
+
+    uint8 input uses OpenCV's 8-bit conversion directly; other inputs are
+    converted in float and rounded the same way. The clustering works on
+    these codes: a* and b* in whole units, L* in steps of 100/255.
+
+    Examples
+    --------
+    >>> lab8(np.array([[[255, 0, 0]]], np.uint8)).tolist()
+    [[[136, 208, 195]]]
+    """
+    if rgb.dtype == np.uint8:
+        return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2Lab)
+    lab = rgb_to_lab(rgb)
+    lab[..., 0] *= np.float32(255.0 / 100.0)
+    lab[..., 1:] += np.float32(128.0)
+    return np.clip(np.floor(lab + 0.5), 0, 255).astype(np.uint8)
+
+
+def lightness_classes(l8: np.ndarray, *, black_bound: float = 0.20, white_bound: float = 0.80,
+                      max_lightness: float = 100.0) -> np.ndarray:
+    """Class of each pixel from its 8-bit L* code: 0 black, 1 color, 2 white (Fig. 32).
+
+    Examples
+    --------
+    >>> lightness_classes(np.array([0, 51, 52, 203, 204, 255], np.uint8)).tolist()
+    [0, 0, 1, 1, 2, 2]
+    """
+    lightness = l8.astype(np.float32) * np.float32(100.0 / 255.0)
+    black = lightness <= np.float32(black_bound * max_lightness)
+    white = lightness >= np.float32(white_bound * max_lightness)
+    return (1 - black.astype(np.uint8) + white.astype(np.uint8)).astype(np.uint8)
 
 
 def rgb_to_lab(rgb: np.ndarray) -> np.ndarray:
@@ -117,7 +191,9 @@ def initial_means(features: np.ndarray, n_clusters: int) -> np.ndarray:
     return lo[None, :] + steps[:, None] * (hi - lo)[None, :]
 
 
-def kmeans(features: np.ndarray, n_clusters: int = 4, iterations: int = 10) -> tuple[np.ndarray, np.ndarray]:
+def kmeans(
+    features: np.ndarray, n_clusters: int = 4, iterations: int = 10, *, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Deterministic k-means (thesis 4.3.3, spec step 5.4).
 
     Starts from :func:`initial_means`, then ``iterations`` times assigns each
@@ -134,6 +210,9 @@ def kmeans(features: np.ndarray, n_clusters: int = 4, iterations: int = 10) -> t
     iterations : int
         Number of update rounds (spec decision: 10); 0 assigns to the
         initial means.
+    weights : (N,) ndarray, optional
+        Multiplicity of each point: k-means over a histogram of distinct
+        features gives the same clusters as over every pixel.
 
     Returns
     -------
@@ -154,16 +233,16 @@ def kmeans(features: np.ndarray, n_clusters: int = 4, iterations: int = 10) -> t
     x = np.asarray(features, dtype=np.float32)
     if x.ndim != 2 or x.shape[0] == 0:
         raise ValueError(f"features must be a non-empty (N, D) array; got shape {x.shape}.")
+    w = np.ones(x.shape[0]) if weights is None else np.asarray(weights, dtype=np.float64)
+    cols = [np.ascontiguousarray(x[:, d]) for d in range(x.shape[1])]
     means = initial_means(x, n_clusters)
-    labels = _assign(x, means)
+    labels = _assign(cols, means)
     for _ in range(iterations):
-        counts = np.bincount(labels, minlength=len(means))
+        counts = np.bincount(labels, weights=w, minlength=len(means))
         keep = counts > 0
-        sums = np.stack(
-            [np.bincount(labels, weights=x[:, d], minlength=len(means)) for d in range(x.shape[1])], axis=1
-        )
+        sums = np.stack([np.bincount(labels, weights=w * c, minlength=len(means)) for c in cols], axis=1)
         means = sums[keep] / counts[keep, None]
-        labels = _assign(x, means)
+        labels = _assign(cols, means)
     used = np.bincount(labels, minlength=len(means)) > 0
     if not used.all():
         remap = np.cumsum(used) - 1
@@ -172,19 +251,96 @@ def kmeans(features: np.ndarray, n_clusters: int = 4, iterations: int = 10) -> t
     return labels.astype(np.int32, copy=False), means
 
 
-def _assign(x: np.ndarray, means: np.ndarray) -> np.ndarray:
-    """Index of the nearest mean for each row of ``x`` (first index on ties)."""
+def _assign(cols: list[np.ndarray], means: np.ndarray) -> np.ndarray:
+    """Index of the nearest mean for each point (features given per column; first index on ties)."""
     m = means.astype(np.float32)
-    best = np.zeros(x.shape[0], dtype=np.int32)
-    best_d = _sqdist(x, m[0])
+    best = np.zeros(cols[0].shape[0], dtype=np.int32)
+    best_d = _sqdist(cols, m[0])
     for j in range(1, len(m)):
-        d = _sqdist(x, m[j])
+        d = _sqdist(cols, m[j])
         closer = d < best_d
         best[closer] = j
-        best_d = np.where(closer, d, best_d)
+        np.minimum(best_d, d, out=best_d)
     return best
 
 
-def _sqdist(x: np.ndarray, mean: np.ndarray) -> np.ndarray:
-    diff = x - mean[None, :]
-    return np.einsum("ij,ij->i", diff, diff)
+def _sqdist(cols: list[np.ndarray], mean: np.ndarray) -> np.ndarray:
+    total = np.square(cols[0] - mean[0])
+    for c, m in zip(cols[1:], mean[1:]):
+        total += np.square(c - m)
+    return total
+
+
+def cluster_colors(
+    lab8_patch: np.ndarray,
+    *,
+    n_clusters: int = 4,
+    iterations: int = 10,
+    unify: bool = True,
+    black_bound: float = 0.20,
+    white_bound: float = 0.80,
+    max_lightness: float = 100.0,
+    lightness_weight: float = 1.0,
+    return_features: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """Cluster one patch's colors (thesis 4.3.2-4.3.3) from its 8-bit L*a*b* codes.
+
+    L* is unified to its class mean (if ``unify``) and weighted; then k-means
+    runs over the histogram of distinct (L*, a*, b*) features, weighted by
+    their pixel counts, which gives the clusters of k-means over every pixel.
+
+    Parameters
+    ----------
+    lab8_patch : (M, N, 3) uint8 ndarray
+        Output of :func:`lab8` for the patch.
+
+    Returns
+    -------
+    labels : (M, N) int16 ndarray
+        Cluster of each pixel, ``0 .. k'-1``.
+    features : (M, N, 3) float32 ndarray
+        Only with ``return_features``: the clustered (L*, a*, b*) of each
+        pixel, L* unified but not weighted.
+
+    Examples
+    --------
+    >>> patch = lab8(np.array([[[250, 0, 0], [240, 5, 5], [0, 0, 250], [5, 5, 240]]], np.uint8))
+    >>> cluster_colors(patch, n_clusters=2).tolist()
+    [[1, 1, 0, 0]]
+    """
+    l8 = lab8_patch[..., 0]
+    a8 = lab8_patch[..., 1].astype(np.int32)
+    b8 = lab8_patch[..., 2].astype(np.int32)
+    lightness_step = 100.0 / 255.0
+    if unify:
+        cls = lightness_classes(l8, black_bound=black_bound, white_bound=white_bound, max_lightness=max_lightness)
+        n_cls = np.bincount(cls.ravel(), minlength=3)
+        sum_l = np.bincount(cls.ravel(), weights=l8.ravel().astype(np.float64), minlength=3)
+        class_l = np.divide(sum_l, n_cls, out=np.zeros(3), where=n_cls > 0) * lightness_step
+        code = (cls.astype(np.int32) << 16) | (a8 << 8) | b8
+        counts = np.bincount(code.ravel(), minlength=3 << 16)
+        bins = np.flatnonzero(counts)
+        inverse = None
+        lightness_of_bin = class_l[bins >> 16]
+    else:
+        code = (l8.astype(np.int32) << 16) | (a8 << 8) | b8
+        bins, inverse, counts_u = np.unique(code.ravel(), return_inverse=True, return_counts=True)
+        lightness_of_bin = (bins >> 16) * lightness_step
+    a_of_bin = ((bins >> 8) & 255) - 128.0
+    b_of_bin = (bins & 255) - 128.0
+    feats = np.stack([lightness_of_bin * lightness_weight, a_of_bin, b_of_bin], axis=1).astype(np.float32)
+    weights = counts[bins] if inverse is None else counts_u
+    bin_labels, _ = kmeans(feats, n_clusters, iterations, weights=weights)
+    if inverse is None:
+        lut = np.zeros(3 << 16, dtype=np.int16)
+        lut[bins] = bin_labels
+        labels = lut[code]
+    else:
+        labels = bin_labels.astype(np.int16)[inverse].reshape(code.shape)
+    if not return_features:
+        return labels
+    features = np.empty(lab8_patch.shape, dtype=np.float32)
+    features[..., 0] = (class_l[cls] if unify else l8 * lightness_step)
+    features[..., 1] = a8 - 128
+    features[..., 2] = b8 - 128
+    return labels, features

@@ -22,6 +22,7 @@ __all__ = [
     "to_rgb8",
     "comparison_figure",
     "depth_limits",
+    "pick_detail",
 ]
 
 #: Colormap for depth (perceptually uniform); invalid pixels are drawn black.
@@ -163,3 +164,30 @@ def comparison_figure(
     if title:
         fig.suptitle(title, fontsize=10)
     return fig
+
+
+def pick_detail(depth: np.ndarray, *, size: tuple[int, int] | None = None) -> tuple[int, int, int, int]:
+    """The window with the most depth edges, for a zoomed detail: ``(row0, row1, col0, col1)``.
+
+    ``size`` is ``(rows, cols)`` (default: a quarter of each side).
+    Deterministic: the first maximum in row-major order wins.
+
+    Examples
+    --------
+    >>> d = np.zeros((40, 40), np.float32); d[30:, 30:] = 5
+    >>> pick_detail(d, size=(10, 10))
+    (30, 40, 30, 40)
+    """
+    depth = np.asarray(depth, dtype=np.float32)
+    rows, cols = depth.shape
+    h, w = size if size is not None else (max(1, rows // 4), max(1, cols // 4))
+    h, w = min(h, rows), min(w, cols)
+    filled = np.where(np.isfinite(depth), depth, np.nanmedian(depth) if np.isfinite(depth).any() else 0)
+    gy = np.abs(np.diff(filled, axis=0, prepend=filled[:1]))
+    gx = np.abs(np.diff(filled, axis=1, prepend=filled[:, :1]))
+    edges = (np.maximum(gx, gy) > 0.5 * max(1e-12, float(np.nanstd(filled)) / 4)).astype(np.float32)
+    # Sum of edges in every h x w window, anchored at its top-left corner.
+    integral = cv2.integral(edges, sdepth=cv2.CV_64F)
+    sums = integral[h:, w:] - integral[:-h, w:] - integral[h:, :-w] + integral[:-h, :-w]
+    r0, c0 = np.unravel_index(int(np.argmax(sums)), sums.shape)
+    return int(r0), int(r0) + h, int(c0), int(c0) + w

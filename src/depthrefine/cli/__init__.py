@@ -8,6 +8,10 @@ parse, read with :mod:`depthrefine.io`, call the library, write.
 Exit status: 0 success; 2 bad input (one line on stderr naming the file or
 argument and what to do, no traceback, no output left behind); 1 internal
 failure (traceback only with ``--debug``); 130 interrupted.
+
+Every subcommand also takes ``--max-pixels N`` (refuse images over N pixels,
+before decoding them; the default limit comes from the machine's available
+memory, see ``docs/robustness.md``) and ``--debug``.
 """
 
 from __future__ import annotations
@@ -20,12 +24,14 @@ import traceback
 import warnings
 
 from .. import __version__
+from .._validate import pixel_limit
 
 __all__ = ["main", "build_parser", "CliError"]
 
 #: Subcommand modules, in the order ``--help`` lists them.
 COMMAND_MODULES = [
     "_refine",
+    "_demo",
 ]
 
 
@@ -49,16 +55,24 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
     for name in COMMAND_MODULES:
         importlib.import_module(f"{__name__}.{name}").add_parser(sub)
+    from ._common import add_shared_options
+
+    for command_parser in dict.fromkeys(sub.choices.values()):
+        add_shared_options(command_parser)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error (already printed, status 2)
+        return exc.code if isinstance(exc.code, int) else 2
+    args.debug = bool(getattr(args, "debug", False))
     logging.basicConfig(level=logging.INFO, format="%(message)s", stream=sys.stderr)
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), pixel_limit(getattr(args, "max_pixels", None)):
             warnings.simplefilter("default")
             warnings.showwarning = _show_warning
             return int(args.func(args) or 0)

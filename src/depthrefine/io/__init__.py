@@ -4,15 +4,18 @@ See :mod:`depthrefine.io._images` for the representation rules (0 = no
 measurement; the output keeps the input's dtype; color is RGB).
 """
 
-from ._files import InputFileError, atomic_directory, atomic_write, check_output
-from ._images import DEPTH_SUFFIXES, depth_to_dtype, read_depth, read_rgb, write_depth, write_rgb
+from ._files import InputFileError, atomic_directory, atomic_write, check_output, check_output_dir
+from ._images import DEPTH_SUFFIXES, depth_to_dtype, image_shape, read_depth, read_rgb, write_depth, write_rgb
 from ._params import read_mapping, read_patch_layout
+from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
 
 __all__ = [
     "InputFileError",
     "atomic_directory",
     "atomic_write",
     "check_output",
+    "check_output_dir",
+    "image_shape",
     "DEPTH_SUFFIXES",
     "depth_to_dtype",
     "read_depth",
@@ -21,4 +24,8 @@ __all__ = [
     "write_rgb",
     "read_mapping",
     "read_patch_layout",
+    "SAMPLE_SCALES",
+    "SampleScene",
+    "load_sample",
+    "sample_folder",
 ]
