@@ -13,7 +13,9 @@ are the manual patch rectangles, in color-image pixels.
 
 from __future__ import annotations
 
+import os
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Callable
 
@@ -36,6 +38,12 @@ __all__ = [
 
 #: ``progress(done, total)``: called after each patch.
 Progress = Callable[[int, int], None]
+
+
+#: Threads for the patch loop (patches are independent), and the smallest
+#: image (pixels) worth starting them for.
+_MAX_THREADS = 8
+_PARALLEL_MIN_PIXELS = 200_000
 
 
 class ScaleWarning(UserWarning):
@@ -341,62 +349,39 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
     # Nearest valid depth anywhere, for patches without any valid sample.
     nearest_global = _fill_nearest(depth)
 
-    for index, (r0, r1, c0, c1) in enumerate(lr_patches):
-        R0, R1, C0, C1 = r0 * s, r1 * s, c0 * s, c1 * s
-        # 4.3.2-4.3.3: unified L*, k-means.
-        clustered = cluster_colors(
-            lab_codes[R0:R1, C0:C1], n_clusters=params.n_clusters, iterations=params.kmeans_iterations,
-            unify=params.unify_lightness, black_bound=params.black_bound, white_bound=params.white_bound,
-            max_lightness=params.max_lightness, lightness_weight=params.lightness_weight, return_features=keep)
-        labels, lab = clustered if keep else (clustered, None)
-        k = int(labels.max()) + 1
+    def solve(rect: tuple[int, int, int, int]) -> _PatchResult:
+        return _solve_patch(rect, s, depth, lab_codes, nearest_global, params, lo, level_size, n_bins, keep)
 
-        # 4.4.1-4.4.2: spreading and classification: sample (i, j) sits at (i*s + s//2, j*s + s//2).
-        lab_samples = labels[s // 2::s, s // 2::s]
-        d_patch = depth[r0:r1, c0:c1]
-
-        # 4.4.3-4.4.4: per-cluster histogram correction.
-        corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
-        for c in range(k):
-            in_c = lab_samples == c
-            if not in_c.any():
-                continue
-            if params.correct_depth:
-                corrected[in_c] = correct_cluster_depths(
-                    d_patch[in_c], origin=lo, level_size=level_size, n_bins=n_bins,
-                    dominant_fraction=params.dominant_fraction, tolerance_levels=params.tolerance_levels)
+    # Patches are independent: solve them in threads (NumPy and OpenCV release
+    # the GIL), write them back in order, so the result does not depend on timing.
+    workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
+    pool = ThreadPoolExecutor(max_workers=workers) if workers > 1 and out.size >= _PARALLEL_MIN_PIXELS else None
+    try:
+        solved = pool.map(solve, lr_patches) if pool is not None else map(solve, lr_patches)
+        for index, ((r0, r1, c0, c1), res) in enumerate(zip(lr_patches, solved)):
+            own = slice(r0 * s, r1 * s), slice(c0 * s, c1 * s)
+            if owner is None:
+                out[own] = res.depth
+                corrected_lr[r0:r1, c0:c1] = res.corrected
+                labels_lr[r0:r1, c0:c1] = res.lab_samples
+                mine = (slice(None), slice(None))
             else:
-                corrected[in_c] = d_patch[in_c]
-
-        # 4.5: per-cluster expansion, interpolation, reshaping, combination.
-        fallback = _fill_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
-        piece_stack = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion, keep)
-        result, per_cluster = piece_stack
-        missing = ~np.isfinite(result)
-        if missing.any():
-            rr, cc = np.nonzero(missing)
-            result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
-
-        own = slice(R0, R1), slice(C0, C1)
-        if owner is None:
-            out[own] = result
-            corrected_lr[r0:r1, c0:c1] = corrected
-            labels_lr[r0:r1, c0:c1] = lab_samples
-        else:
-            mine_lr = owner[r0:r1, c0:c1] == index
-            mine = np.repeat(np.repeat(mine_lr, s, axis=0), s, axis=1)
-            out[own][mine] = result[mine]
-            corrected_lr[r0:r1, c0:c1][mine_lr] = corrected[mine_lr]
-            labels_lr[r0:r1, c0:c1][mine_lr] = lab_samples[mine_lr]
-        if keep:
-            mine = (slice(None), slice(None)) if owner is None else mine
-            lab_all[own][mine] = lab[mine]
-            labels_all[own][mine] = labels[mine]
-            patch_index[own][mine] = index
-            for c in range(k):
-                pieces[c][own][mine] = per_cluster[c][mine]
-        if progress is not None:
-            progress(index + 1, len(lr_patches))
+                mine_lr = owner[r0:r1, c0:c1] == index
+                mine = np.repeat(np.repeat(mine_lr, s, axis=0), s, axis=1)
+                out[own][mine] = res.depth[mine]
+                corrected_lr[r0:r1, c0:c1][mine_lr] = res.corrected[mine_lr]
+                labels_lr[r0:r1, c0:c1][mine_lr] = res.lab_samples[mine_lr]
+            if keep:
+                lab_all[own][mine] = res.features[mine]
+                labels_all[own][mine] = res.labels[mine]
+                patch_index[own][mine] = index
+                for c in range(len(res.per_cluster)):
+                    pieces[c][own][mine] = res.per_cluster[c][mine]
+            if progress is not None:
+                progress(index + 1, len(lr_patches))
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
 
     depth_hr = resize_depth_nearest(out, step.color_shape)
     hr_patches = [(r0 * s, r1 * s, c0 * s, c1 * s) for r0, r1, c0, c1 in lr_patches]
@@ -411,6 +396,56 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
         corrected_sparse=_spread(corrected_lr, s, step.work_shape), cluster_pieces=pieces,
         level_size=level_size,
     )
+
+
+@dataclass
+class _PatchResult:
+    depth: np.ndarray          # (Hp, Wp) float32
+    corrected: np.ndarray      # (hp, wp) float64
+    lab_samples: np.ndarray    # (hp, wp) int16
+    labels: np.ndarray | None = None
+    features: np.ndarray | None = None
+    per_cluster: np.ndarray | None = None
+
+
+def _solve_patch(rect, s, depth, lab_codes, nearest_global, params, lo, level_size, n_bins, keep) -> _PatchResult:
+    """Steps 5-7 for one patch (pure: reads the shared arrays, writes nothing shared)."""
+    r0, r1, c0, c1 = rect
+    # 4.3.2-4.3.3: unified L*, k-means.
+    clustered = cluster_colors(
+        lab_codes[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
+        iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
+        white_bound=params.white_bound, max_lightness=params.max_lightness,
+        lightness_weight=params.lightness_weight, return_features=keep)
+    labels, features = clustered if keep else (clustered, None)
+    k = int(labels.max()) + 1
+
+    # 4.4.1-4.4.2: spreading and classification: sample (i, j) sits at (i*s + s//2, j*s + s//2).
+    lab_samples = labels[s // 2::s, s // 2::s]
+    d_patch = depth[r0:r1, c0:c1]
+
+    # 4.4.3-4.4.4: per-cluster histogram correction.
+    corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
+    for c in range(k):
+        in_c = lab_samples == c
+        if not in_c.any():
+            continue
+        if params.correct_depth:
+            corrected[in_c] = correct_cluster_depths(
+                d_patch[in_c], origin=lo, level_size=level_size, n_bins=n_bins,
+                dominant_fraction=params.dominant_fraction, tolerance_levels=params.tolerance_levels)
+        else:
+            corrected[in_c] = d_patch[in_c]
+
+    # 4.5: per-cluster expansion, interpolation, reshaping, combination.
+    result, per_cluster = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion, keep)
+    missing = ~np.isfinite(result)
+    if missing.any():
+        fallback = _fill_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
+        rr, cc = np.nonzero(missing)
+        result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
+    return _PatchResult(result, corrected, lab_samples, labels if keep else None, features,
+                        per_cluster if keep else None)
 
 
 def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep):
@@ -463,19 +498,26 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     rr, cc = np.nonzero(cell_label[i0][:, j0] != labels)
 
     # Other pixels: each corner counts only if it holds a sample of the
-    # pixel's cluster (after expansion); weights renormalised.
+    # pixel's cluster (after expansion); weights renormalised. Bilinear
+    # interpolation of value*weight divided by that of weight.
     if rr.size:
-        flat_v = values.reshape(-1)
-        flat_w = weights.reshape(-1)
-        base = labels[rr, cc].astype(np.intp) * (hp * wp)
-        num = np.zeros(rr.size)
-        den = np.zeros(rr.size)
-        for ri, wr in ((i0[rr], 1.0 - fr[rr]), (i1[rr], fr[rr])):
-            for cj, wc in ((j0[cc], 1.0 - fc[cc]), (j1[cc], fc[cc])):
-                idx = base + ri * wp + cj
-                wgt = wr * wc * flat_w[idx]
-                num += wgt * flat_v[idx]
-                den += wgt
+        weighted = (values * weights).astype(np.float32).reshape(-1)
+        present = weights.astype(np.float32).reshape(-1)
+        p00 = (labels[rr, cc].astype(np.int32) * (hp * wp) + (i0 * wp).astype(np.int32)[rr]
+               + j0.astype(np.int32)[cc])
+        dj = (j1 - j0).astype(np.int32)[cc]
+        p10 = p00 + ((i1 - i0) * wp).astype(np.int32)[rr]
+        fr_s = fr.astype(np.float32)[rr]
+        fc_s = fc.astype(np.float32)[cc]
+
+        def lerp2(flat: np.ndarray) -> np.ndarray:
+            a, b = flat[p00], flat[p00 + dj]
+            c, d = flat[p10], flat[p10 + dj]
+            top = a + fc_s * (b - a)
+            bottom = c + fc_s * (d - c)
+            return top + fr_s * (bottom - top)
+
+        num, den = lerp2(weighted), lerp2(present)
         with np.errstate(invalid="ignore", divide="ignore"):
             result[rr, cc] = np.where(den > 0, num / den, np.nan)
 

@@ -234,14 +234,18 @@ def kmeans(
     if x.ndim != 2 or x.shape[0] == 0:
         raise ValueError(f"features must be a non-empty (N, D) array; got shape {x.shape}.")
     w = np.ones(x.shape[0]) if weights is None else np.asarray(weights, dtype=np.float64)
-    cols = [np.ascontiguousarray(x[:, d]) for d in range(x.shape[1])]
+    n, dims = x.shape
+    wx = (w[:, None] * x).ravel()
+    dim_index = np.tile(np.arange(dims), n)
+    cols = np.ascontiguousarray(x.T)
     means = initial_means(x, n_clusters)
     labels = _assign(cols, means)
     for _ in range(iterations):
-        counts = np.bincount(labels, weights=w, minlength=len(means))
+        k = len(means)
+        counts = np.bincount(labels, weights=w, minlength=k)
+        sums = np.bincount(np.repeat(labels, dims) * dims + dim_index, weights=wx, minlength=k * dims)
         keep = counts > 0
-        sums = np.stack([np.bincount(labels, weights=w * c, minlength=len(means)) for c in cols], axis=1)
-        means = sums[keep] / counts[keep, None]
+        means = sums.reshape(k, dims)[keep] / counts[keep, None]
         labels = _assign(cols, means)
     used = np.bincount(labels, minlength=len(means)) > 0
     if not used.all():
@@ -251,24 +255,13 @@ def kmeans(
     return labels.astype(np.int32, copy=False), means
 
 
-def _assign(cols: list[np.ndarray], means: np.ndarray) -> np.ndarray:
-    """Index of the nearest mean for each point (features given per column; first index on ties)."""
+def _assign(cols: np.ndarray, means: np.ndarray) -> np.ndarray:
+    """Index of the nearest mean for each point (``cols``: (D, N) features; first index on ties)."""
     m = means.astype(np.float32)
-    best = np.zeros(cols[0].shape[0], dtype=np.int32)
-    best_d = _sqdist(cols, m[0])
-    for j in range(1, len(m)):
-        d = _sqdist(cols, m[j])
-        closer = d < best_d
-        best[closer] = j
-        np.minimum(best_d, d, out=best_d)
-    return best
-
-
-def _sqdist(cols: list[np.ndarray], mean: np.ndarray) -> np.ndarray:
-    total = np.square(cols[0] - mean[0])
-    for c, m in zip(cols[1:], mean[1:]):
-        total += np.square(c - m)
-    return total
+    dist = np.square(cols[0][:, None] - m[None, :, 0])
+    for d in range(1, len(cols)):
+        dist += np.square(cols[d][:, None] - m[None, :, d])
+    return dist.argmin(axis=1).astype(np.int32)
 
 
 def cluster_colors(
@@ -313,13 +306,17 @@ def cluster_colors(
     b8 = lab8_patch[..., 2].astype(np.int32)
     lightness_step = 100.0 / 255.0
     if unify:
-        cls = lightness_classes(l8, black_bound=black_bound, white_bound=white_bound, max_lightness=max_lightness)
-        n_cls = np.bincount(cls.ravel(), minlength=3)
-        sum_l = np.bincount(cls.ravel(), weights=l8.ravel().astype(np.float64), minlength=3)
+        class_of_l8 = lightness_classes(np.arange(256, dtype=np.uint8), black_bound=black_bound,
+                                        white_bound=white_bound, max_lightness=max_lightness)
+        cls = class_of_l8[l8]
+        # Class means of L* from the 256-bin histogram of the L* codes.
+        hist_l = np.bincount(l8.ravel(), minlength=256).astype(np.float64)
+        n_cls = np.bincount(class_of_l8, weights=hist_l, minlength=3)
+        sum_l = np.bincount(class_of_l8, weights=hist_l * np.arange(256), minlength=3)
         class_l = np.divide(sum_l, n_cls, out=np.zeros(3), where=n_cls > 0) * lightness_step
         code = (cls.astype(np.int32) << 16) | (a8 << 8) | b8
         counts = np.bincount(code.ravel(), minlength=3 << 16)
-        bins = np.flatnonzero(counts)
+        bins = np.flatnonzero(counts > 0)
         inverse = None
         lightness_of_bin = class_l[bins >> 16]
     else:
