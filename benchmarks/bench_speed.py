@@ -39,20 +39,29 @@ FGS_LAMBDA = 24.0
 FGS_SIGMA_COLOR = 8.0
 
 
-def inputs() -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """name -> (depth_lr, rgb_hr)."""
-    out = {}
+def _thesis_geometry() -> tuple[np.ndarray, np.ndarray]:
     scene = load_sample(8)
     rgb = cv2.resize(scene.rgb_hr, (1232, 1008), interpolation=cv2.INTER_LINEAR)
     gt = cv2.resize(scene.depth_gt.astype(np.float32), (176, 144), interpolation=cv2.INTER_AREA)
     rng = np.random.default_rng(7)
     depth = np.clip(np.round(gt + rng.normal(0, 2.0, gt.shape)), 1, 255).astype(np.uint8)
-    out["thesis geometry 176x144 x7 -> 1232x1008"] = (depth, rgb)
-    for s in (4, 8, 16):
-        sc = load_sample(s)
-        h, w = sc.depth_lr.shape
-        out[f"Middlebury Art x{s} ({w}x{h} -> 1376x1088)"] = (sc.depth_lr, sc.rgb_hr)
-    return out
+    return depth, rgb
+
+
+def _middlebury(scale: int):
+    def load() -> tuple[np.ndarray, np.ndarray]:
+        scene = load_sample(scale)
+        return scene.depth_lr, scene.rgb_hr
+    return load
+
+
+#: name -> loader of (depth_lr, rgb_hr); loaded one at a time.
+INPUTS = {
+    "thesis geometry 176x144 x7 -> 1232x1008": _thesis_geometry,
+    "Middlebury Art x4 (344x272 -> 1376x1088)": _middlebury(4),
+    "Middlebury Art x8 (172x136 -> 1376x1088)": _middlebury(8),
+    "Middlebury Art x16 (86x68 -> 1376x1088)": _middlebury(16),
+}
 
 
 def fgs_peer(depth_lr: np.ndarray, rgb_hr: np.ndarray) -> np.ndarray:
@@ -82,8 +91,8 @@ import json, resource, sys, re
 import numpy as np
 sys.path[:0] = {path!r}
 import depthrefine
-from benchmarks.bench_speed import inputs
-depth, rgb = inputs()[{name!r}]
+from benchmarks.bench_speed import INPUTS
+depth, rgb = INPUTS[{name!r}]()
 depthrefine.refine(depth[:8, :8], rgb[:8 * (rgb.shape[0] // depth.shape[0]), :8 * (rgb.shape[1] // depth.shape[1])],
                    method={method!r})
 def status(key):
@@ -91,6 +100,12 @@ def status(key):
         for line in fh:
             if line.startswith(key):
                 return int(line.split()[1]) * 1024
+import ctypes, gc
+gc.collect()
+try:
+    ctypes.CDLL('libc.so.6').malloc_trim(0)
+except OSError:
+    pass
 before = status('VmRSS:')
 try:
     with open('/proc/self/clear_refs', 'w') as fh:
@@ -125,7 +140,8 @@ def main(argv: list[str] | None = None) -> int:
     header = f"{'input':44s} {'refine ms':>10s} {'FGS ms':>8s} {'ratio':>6s} {'peak MB':>8s} {'x output':>9s}"
     print(header)
     print("-" * len(header))
-    for name, (depth, rgb) in inputs().items():
+    for name, load in INPUTS.items():
+        depth, rgb = load()
         ours, peer = time_pair(depth, rgb, args.method, args.repeats)
         mem = "" if args.no_memory else peak_memory(name, args.method)
         mem_txt = "" if not mem else f"{mem['added'] / 2**20:8.1f} {mem['added'] / mem['out_bytes']:9.1f}"
