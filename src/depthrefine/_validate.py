@@ -7,9 +7,35 @@ message that names the argument, says what was received and what to do.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
+import os
+from typing import Iterator
+
 import numpy as np
 
-__all__ = ["as_depth", "as_rgb", "check_depth", "check_rgb", "check_positive_int", "valid_range"]
+__all__ = [
+    "as_depth",
+    "as_rgb",
+    "check_depth",
+    "check_rgb",
+    "check_positive_int",
+    "valid_range",
+    "no_valid_pixel_message",
+    "available_memory",
+    "check_pixels",
+    "pixel_limit",
+    "PEAK_BYTES_PER_PIXEL",
+]
+
+#: Peak memory of the hungriest library path, in bytes per color pixel: the
+#: thesis method with every intermediate and a single patch measured
+#: 164 B/px (4 Mpx, ``docs/robustness.md``); the default 4 x 4 grid needs
+#: 21-58 B/px and the baselines 2 B/px. Rounded up for headroom.
+PEAK_BYTES_PER_PIXEL = 200
+
+# The pixel limit a command line run set (``--max-pixels``), see pixel_limit().
+_MAX_PIXELS: contextvars.ContextVar[int | None] = contextvars.ContextVar("depthrefine_max_pixels", default=None)
 
 _DEPTH_DTYPES = (np.uint8, np.uint16, np.int16, np.int32, np.float32, np.float64)
 
@@ -27,10 +53,11 @@ def check_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
         )
     if depth.dtype.type not in _DEPTH_DTYPES:
         raise TypeError(
-            f"{name} has dtype {depth.dtype}; expected uint8, uint16, int16, int32, float32 or float64."
+            f"{name} has dtype {depth.dtype}; expected uint8, uint16, int16, int32, float32 or float64. "
+            "Convert it first."
         )
     if depth.shape[0] < 1 or depth.shape[1] < 1:
-        raise ValueError(f"{name} is empty (shape {depth.shape}).")
+        raise ValueError(f"{name} is empty (shape {depth.shape}); give a non-empty depth map.")
     return depth
 
 
@@ -45,11 +72,16 @@ def as_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
     with np.errstate(invalid="ignore"):
         out[~(np.isfinite(out) & (out > 0))] = np.nan
     if not np.isfinite(out).any():
-        raise ValueError(
-            f"{name} has no valid pixel (all are 0, NaN, inf or negative); "
-            "there is no depth to refine. Check the depth file or its units."
-        )
+        raise ValueError(no_valid_pixel_message(name))
     return out
+
+
+def no_valid_pixel_message(name: str) -> str:
+    """The message for a depth map without any valid pixel (shared with :mod:`depthrefine.io`)."""
+    return (
+        f"{name} has no valid pixel (all are 0, NaN, inf or negative); "
+        "there is no depth to refine. Check the depth file or its units."
+    )
 
 
 def valid_range(depth: np.ndarray) -> tuple[float, float]:
@@ -74,15 +106,16 @@ def check_rgb(rgb: object, name: str = "rgb_hr") -> np.ndarray:
         rgb = rgb[:, :, :3]
     if rgb.ndim != 3 or rgb.shape[2] != 3:
         raise ValueError(
-            f"{name} must be a color image of shape (rows, cols, 3); got shape {rgb.shape}."
+            f"{name} must be a color image of shape (rows, cols, 3); got shape {rgb.shape}. "
+            "Give an RGB (or gray) image."
         )
     if rgb.shape[0] < 1 or rgb.shape[1] < 1:
-        raise ValueError(f"{name} is empty (shape {rgb.shape}).")
+        raise ValueError(f"{name} is empty (shape {rgb.shape}); give a non-empty image.")
     if rgb.dtype == np.uint8 or rgb.dtype == np.uint16:
         return rgb
     if rgb.dtype in (np.float32, np.float64):
         if not np.isfinite(rgb).all():
-            raise ValueError(f"{name} holds NaN or inf; color values must be finite.")
+            raise ValueError(f"{name} holds NaN or inf; color values must be finite numbers in [0, 1].")
         lo, hi = float(rgb.min()), float(rgb.max())
         if lo < 0.0 or hi > 1.0:
             raise ValueError(
@@ -90,7 +123,7 @@ def check_rgb(rgb: object, name: str = "rgb_hr") -> np.ndarray:
                 "[0, 1]. Divide by 255 (8-bit) or 65535 (16-bit), or pass the integer image."
             )
         return rgb
-    raise TypeError(f"{name} has dtype {rgb.dtype}; expected uint8, uint16, float32 or float64.")
+    raise TypeError(f"{name} has dtype {rgb.dtype}; expected uint8, uint16, float32 or float64. Convert it first.")
 
 
 def as_rgb_float(rgb: np.ndarray) -> np.ndarray:
@@ -114,3 +147,105 @@ def check_positive_int(value: object, name: str) -> int:
     if value < 1:
         raise ValueError(f"{name} must be >= 1; got {value}.")
     return int(value)
+
+
+# ----------------------------------------------------------------------------
+# Memory guard
+# ----------------------------------------------------------------------------
+
+
+def available_memory() -> int | None:
+    """Bytes of memory the machine can give this process now, or ``None`` if unknown.
+
+    Linux: ``MemAvailable`` of ``/proc/meminfo`` (free memory plus what the
+    kernel can reclaim, without swap). Elsewhere: ``psutil`` when installed,
+    else the total physical memory from ``os.sysconf``.
+    """
+    try:
+        with open("/proc/meminfo", "rb") as fh:
+            for line in fh:
+                if line.startswith(b"MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        import psutil
+    except ImportError:
+        pass
+    else:
+        return int(psutil.virtual_memory().available)
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+@contextlib.contextmanager
+def pixel_limit(max_pixels: int | None) -> Iterator[None]:
+    """Within the block, :func:`check_pixels` uses ``max_pixels`` when not given one.
+
+    The command line wraps each command in it, so ``--max-pixels`` reaches
+    every image it reads and every library call it makes. ``None`` keeps the
+    memory-derived limit only.
+    """
+    token = _MAX_PIXELS.set(None if max_pixels is None else check_positive_int(max_pixels, "max_pixels"))
+    try:
+        yield
+    finally:
+        _MAX_PIXELS.reset(token)
+
+
+def check_pixels(
+    shape: tuple[int, ...],
+    *,
+    max_pixels: int | None = None,
+    name: str = "rgb_hr",
+    bytes_per_pixel: int = PEAK_BYTES_PER_PIXEL,
+) -> None:
+    """Refuse, before any work, an image too large for the limit or the machine.
+
+    Parameters
+    ----------
+    shape : tuple
+        ``(rows, cols[, channels])`` of the image (the output grid).
+    max_pixels : int, optional
+        Largest ``rows * cols`` allowed. ``None``: the limit set by
+        :func:`pixel_limit` (``--max-pixels``), if any.
+    name : str
+        What the image is, for the message (``"rgb_hr"``, ``"color file x.png"``).
+    bytes_per_pixel : int
+        Estimated peak memory per pixel of the work to come.
+
+    Raises
+    ------
+    ValueError
+        More pixels than ``max_pixels``, or an estimated peak
+        (``rows * cols * bytes_per_pixel``) above :func:`available_memory`.
+
+    Examples
+    --------
+    >>> check_pixels((480, 640), max_pixels=10**6)
+    >>> check_pixels((2000, 1000), max_pixels=10**6)
+    Traceback (most recent call last):
+    ...
+    ValueError: rgb_hr is 1000x2000 = 2,000,000 pixels, more than the limit of 1,000,000 (max_pixels / --max-pixels); use a smaller image or raise the limit.
+    """
+    rows, cols = int(shape[0]), int(shape[1])
+    n = rows * cols
+    limit = _MAX_PIXELS.get() if max_pixels is None else check_positive_int(max_pixels, "max_pixels")
+    if limit is not None and n > limit:
+        raise ValueError(
+            f"{name} is {cols}x{rows} = {n:,} pixels, more than the limit of {limit:,} "
+            "(max_pixels / --max-pixels); use a smaller image or raise the limit."
+        )
+    need = n * int(bytes_per_pixel)
+    avail = available_memory()
+    if avail is not None and need > avail:
+        raise ValueError(
+            f"{name} is {cols}x{rows} = {n:,} pixels; processing it needs about {_gib(need)} of memory, "
+            f"more than the {_gib(avail)} available. Crop or downscale the image, or free memory."
+        )
+
+
+def _gib(n_bytes: int) -> str:
+    return f"{n_bytes / 2**30:.1f} GiB" if n_bytes >= 2**30 else f"{n_bytes / 2**20:.1f} MiB"

@@ -1,0 +1,45 @@
+"""Shared fixtures: a seeded generator, the shared-data location, small scenes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from depthrefine.synthetic import make_scene, make_two_planes
+
+#: ../shared/data beside the repository (team rule); tests skip when it is missing.
+SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+
+
+def shared_data_path(*parts: str) -> Path:
+    """A path under ../shared/data, or ``pytest.skip`` if it is not there."""
+    path = SHARED_DATA.joinpath(*parts)
+    if not path.exists():
+        pytest.skip(f"shared data not available: {path}")
+    return path
+
+
+@pytest.fixture
+def rng() -> np.random.Generator:
+    """A fresh, seeded generator per test (never the global numpy state)."""
+    return np.random.default_rng(20140701)
+
+
+@pytest.fixture
+def shared_data() -> Path:
+    """The ../shared/data folder; skips the test when it is missing."""
+    return shared_data_path()
+
+
+@pytest.fixture
+def two_planes():
+    """16 x 32 color, 4 x 8 depth (x4): a vertical edge at column 13, between samples 10 and 14."""
+    return make_two_planes((16, 32), 4, edge_col=13)
+
+
+@pytest.fixture
+def small_scene():
+    """A 64 x 64, x4 scene: two flat objects before a wall, mild color noise and shading."""
+    return make_scene((64, 64), 4, n_objects=2, seed=3, color_noise_std=4.0, shading=0.1)
