@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from depthrefine.segment import cluster_colors, initial_means, kmeans, lab8, median_rgb, rgb_to_lab, unify_lightness
+from depthrefine.segment import (
+    AB_STEP, cluster_colors, initial_means, kmeans, lightness_classes, median_rgb, rgb_to_lab, unify_lightness,
+)
 
 
 # ---------------------------------------------------------------------------
@@ -215,48 +217,50 @@ def test_kmeans_bad_arguments(x, k, iterations, error):
 
 
 # ---------------------------------------------------------------------------
-# The pipeline's clustering: k-means over the histogram of 8-bit L*a*b* codes
+# The pipeline's clustering: k-means over the histogram of binned L*a*b* features
 # ---------------------------------------------------------------------------
 
 
-def test_lab8_codes():
-    rgb = np.array([[[255, 255, 255], [0, 0, 0], [255, 0, 0]]], np.uint8)
-    # OpenCV's 8-bit encoding: L* * 255/100, a* + 128, b* + 128.
-    assert lab8(rgb).tolist() == [[[255, 128, 128], [0, 128, 128], [136, 208, 195]]]
-    lab = rgb_to_lab(rgb)
-    np.testing.assert_allclose(lab8(rgb)[..., 0], lab[..., 0] * 255 / 100, atol=0.6)
-
-
-def test_lab8_is_the_same_for_every_input_dtype(rng):
-    rgb8 = rng.integers(0, 256, (6, 9, 3)).astype(np.uint8)
-    codes = lab8(rgb8).astype(int)
-    assert np.abs(lab8(rgb8.astype(np.uint16) * 257).astype(int) - codes).max() <= 1
-    assert np.abs(lab8(rgb8.astype(np.float32) / 255).astype(int) - codes).max() <= 1
+def test_lightness_classes_bounds():
+    lightness = np.array([0.0, 19.9, 20.0, 20.01, 79.99, 80.0, 100.0])
+    assert lightness_classes(lightness).tolist() == [0, 0, 0, 1, 1, 2, 2]
+    assert lightness_classes(lightness, black_bound=0.5, white_bound=0.9).tolist() == [0, 0, 0, 0, 1, 1, 2]
 
 
 @pytest.mark.parametrize("unify, weight", [(True, 1.0), (False, 1.0), (True, 0.3), (False, 2.0)])
 def test_cluster_colors_equals_kmeans_over_every_pixel(rng, unify, weight):
-    """The histogram shortcut must give the clusters of k-means over every pixel (spec 5.3-5.4)."""
+    """The histogram shortcut gives the clusters of k-means over every pixel of the binned features."""
     palette = np.array([[200, 40, 40], [40, 160, 60], [50, 80, 210], [230, 210, 50], [20, 20, 20]], float)
     blocks = rng.integers(0, 5, (6, 6))
     rgb = palette[np.repeat(np.repeat(blocks, 5, axis=0), 5, axis=1)] + rng.normal(0, 12, (30, 30, 3))
-    codes = lab8(np.clip(rgb, 0, 255).astype(np.uint8))
-    labels, features = cluster_colors(codes, n_clusters=4, iterations=10, unify=unify,
+    lab = rgb_to_lab(np.clip(rgb, 0, 255).astype(np.uint8))
+    labels, features = cluster_colors(lab, n_clusters=4, iterations=10, unify=unify,
                                       lightness_weight=weight, return_features=True)
     # The features per pixel: L* (unified to its class mean when asked), a*, b*.
-    l_star = codes[..., 0] * (100 / 255)
     if unify:
         assert len(np.unique(features[..., 0])) <= 3
-        np.testing.assert_allclose(features[..., 0], unify_lightness(np.dstack([l_star, features[..., 1:]]))[..., 0],
-                                   atol=1e-4)
+        np.testing.assert_allclose(features, unify_lightness(lab), atol=1e-4)
     else:
-        np.testing.assert_allclose(features[..., 0], l_star, atol=1e-4)
-    np.testing.assert_array_equal(features[..., 1:], codes[..., 1:].astype(np.float32) - 128)
-    weighted = features.reshape(-1, 3).copy()
-    weighted[:, 0] *= weight
-    expected, _ = kmeans(weighted, 4, 10)
+        np.testing.assert_array_equal(features, lab)
+    # k-means over every pixel of the binned features (a*, b* and a non-unified L* at AB_STEP).
+    binned = features.reshape(-1, 3).astype(np.float64)
+    cols = (1, 2) if unify else (0, 1, 2)
+    for c in cols:
+        binned[:, c] = np.floor(binned[:, c] / AB_STEP + 0.5) * AB_STEP
+    binned[:, 0] *= weight
+    expected, _ = kmeans(binned.astype(np.float32), 4, 10)
     np.testing.assert_array_equal(labels.reshape(-1), expected)
     assert labels.dtype == np.int16
+
+
+def test_cluster_colors_small_and_large_patches_agree(rng):
+    """The histogram path (large patch) and the sorting path (small patch) give one answer."""
+    rgb = rng.integers(0, 256, (8, 8, 3)).astype(np.uint8)
+    lab = rgb_to_lab(rgb)
+    small = cluster_colors(lab, n_clusters=3)
+    big = cluster_colors(np.tile(lab, (60, 60, 1)), n_clusters=3)
+    np.testing.assert_array_equal(big[:8, :8], small)
+    np.testing.assert_array_equal(big, np.tile(small, (60, 60)))
 
 
 def test_cluster_colors_separates_black_gray_and_white():
@@ -264,7 +268,7 @@ def test_cluster_colors_separates_black_gray_and_white():
     rgb = np.zeros((8, 8, 3), np.uint8)
     rgb[:, 4:] = 255
     rgb[4:, :4] = 128
-    labels = cluster_colors(lab8(rgb), n_clusters=4)
+    labels = cluster_colors(rgb_to_lab(rgb), n_clusters=4)
     assert labels[0, 0] != labels[0, 7] and labels[0, 0] != labels[7, 0] and labels[0, 7] != labels[7, 0]
     assert len(np.unique(labels)) == 3
     for block in (labels[:4, :4], labels[:, 4:], labels[4:, :4]):

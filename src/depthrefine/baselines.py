@@ -56,7 +56,7 @@ def upsample_nearest(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params=None, p
     >>> upsample_nearest(np.array([[1, 2]], np.float32), np.zeros((2, 4, 3), np.uint8)).tolist()
     [[1.0, 1.0, 2.0, 2.0], [1.0, 1.0, 2.0, 2.0]]
     """
-    return upsample(depth_lr, check_rgb(rgb_hr).shape[:2], cv2.INTER_NEAREST)
+    return upsample(depth_lr, check_rgb(rgb_hr).shape[:2], cv2.INTER_NEAREST_EXACT)
 
 
 def upsample_bilinear(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params=None, progress=None) -> np.ndarray:

@@ -26,8 +26,9 @@ class RefineParams:
     """Parameters of the thesis depth refinement (spec steps 4-8).
 
     Defaults are the thesis values; the section of the thesis each comes from
-    is given in brackets. Lengths on the image grid are in pixels of the color
-    image; depth thresholds are in 8-bit "levels" (see ``level_size``).
+    is given in brackets. ``median_size`` and ``patch_layout`` are in color
+    pixels, ``expansion`` in depth pixels; depth thresholds are in 8-bit
+    "levels" (see ``level_size``).
 
     Attributes
     ----------
@@ -62,11 +63,12 @@ class RefineParams:
     tolerance_levels : float
         A depth within this many levels of a dominant value is kept [4.4.4: 5].
     histogram_bins : int
-        Bins of the per-cluster histogram when the levels are not 8-bit levels
-        [spec decision: 256 over the valid range].
+        Bins of the per-cluster histogram over the valid depth range, for
+        input that is not uint8 (uint8 input has one bin per 8-bit level)
+        [spec decision: 256].
     level_size : float, optional
-        Depth units per level. ``None`` (default): 1 for ``uint8`` input (one
-        histogram bin per 8-bit level), otherwise ``(max - min) / 255`` of the
+        Depth units per level, the unit of ``tolerance_levels``. ``None``
+        (default): 1 for uint8 input, otherwise ``(max - min) / 255`` of the
         valid input depths [spec conventions].
     expansion : int
         Depth pixels by which each cluster's samples are dilated before

@@ -25,7 +25,7 @@ from scipy import ndimage
 from ._validate import as_depth, check_pixels, check_rgb, valid_range
 from .params import RefineParams
 from .scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
-from .segment import cluster_colors, lab8, median_rgb
+from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
     "Refinement",
@@ -70,10 +70,12 @@ class Refinement:
     rgb_filtered : (Hw, Ww, 3)
         Median-filtered color (work grid, input dtype) (4.3.1).
     lab_unified : (Hw, Ww, 3) float32
-        L*a*b* with unified L* (before the L* weight) (4.3.2).
+        L*a*b* of the filtered color with L* unified per patch (before the L*
+        weight) (4.3.2). k-means clusters these with a* and b* binned at 0.5
+        units (:data:`depthrefine.segment.AB_STEP`).
     labels : (Hw, Ww) int16
         Cluster label of each pixel, local to its patch, ``0 .. k'-1`` (4.3.3).
-    patch_index : (Hw, Ww) int16
+    patch_index : (Hw, Ww) int32
         Which patch each pixel belongs to.
     labels_lr : (h, w) int16
         The labels sampled at the depth pixels (Fig. 39a) (4.4.2).
@@ -88,7 +90,9 @@ class Refinement:
         Per cluster index ``c``: the expanded, interpolated depth of cluster
         ``c`` of every patch, before reshaping (NaN out of reach) (4.5.1-4.5.3).
     level_size : float
-        Depth units per level used by the histogram and tolerance.
+        Depth units per level, the unit of the +-``tolerance_levels`` test
+        (1 for uint8 input, else ``(max - min) / 255`` of the valid depths,
+        unless set in the parameters).
     """
 
     depth_hr: np.ndarray
@@ -250,15 +254,18 @@ def correct_cluster_depths(
     n_bins: int,
     dominant_fraction: float = 0.5,
     tolerance_levels: float = 5.0,
+    bin_width: float | None = None,
 ) -> np.ndarray:
     """Correct the depth samples of one cluster (thesis 4.4.3-4.4.4).
 
-    The histogram has one bin per level: bin ``b`` holds the values nearest to
-    ``origin + b * level_size``. The fullest bin is dominant, and so is every
-    bin whose count exceeds ``dominant_fraction`` of it. A value within
-    ``tolerance_levels`` levels of a dominant value is kept; any other is rare
-    and becomes the nearest dominant value (ties: the lower). NaN (invalid)
-    samples are not counted and become the fullest bin's value.
+    Bin ``b`` of the histogram holds the values nearest to
+    ``origin + b * bin_width`` (default ``bin_width = level_size``: one bin
+    per level). The fullest bin is dominant, and so is every bin whose count
+    exceeds ``dominant_fraction`` of it; a dominant value is its bin's center.
+    A value within ``tolerance_levels * level_size`` of a dominant value is
+    kept; any other is rare and becomes the nearest dominant value (ties: the
+    lower). NaN (invalid) samples are not counted and become the fullest
+    bin's value.
 
     Parameters
     ----------
@@ -280,14 +287,15 @@ def correct_cluster_depths(
     valid = np.isfinite(values)
     if not valid.any():
         return np.full(values.shape, np.nan)
-    bins = np.clip(np.floor((values[valid] - origin) / level_size + 0.5).astype(np.int64), 0, n_bins - 1)
+    bin_width = level_size if bin_width is None else bin_width
+    bins = np.clip(np.floor((values[valid] - origin) / bin_width + 0.5).astype(np.int64), 0, n_bins - 1)
     counts = np.bincount(bins, minlength=n_bins)
     peak = counts.max()
     dominant_bins = np.flatnonzero((counts == peak) | (counts > dominant_fraction * peak))
-    dominant = origin + dominant_bins.astype(np.float64) * level_size
+    dominant = origin + dominant_bins.astype(np.float64) * bin_width
     out = np.empty_like(values)
     # The fullest bin (lowest on ties) for invalid samples.
-    out[~valid] = origin + float(np.argmax(counts)) * level_size
+    out[~valid] = origin + float(np.argmax(counts)) * bin_width
     v = values[valid]
     dist = np.abs(v[:, None] - dominant[None, :])
     nearest = np.argmin(dist, axis=1)
@@ -314,23 +322,28 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
     s = step.factor
     h, w = depth.shape
 
-    # Levels: one bin per level; 8-bit input counts 8-bit levels (spec conventions).
+    # Levels (spec conventions): the +-5 tolerance is in levels of
+    # (max - min) / 255 depth units (1 for 8-bit input, or params.level_size);
+    # the histogram has one bin per level for 8-bit input, else
+    # params.histogram_bins bins over the valid range.
     lo, hi = valid_range(depth)
+    is_8bit = np.asarray(depth_lr).dtype == np.uint8
     if params.level_size is not None:
         level_size = float(params.level_size)
-        n_bins = int(np.floor((hi - lo) / level_size + 0.5)) + 1
-    elif np.asarray(depth_lr).dtype == np.uint8:
-        level_size, n_bins = 1.0, int(hi - lo) + 1
+    else:
+        level_size = 1.0 if is_8bit or hi == lo else (hi - lo) / 255.0
+    if is_8bit:
+        bin_width, n_bins = 1.0, int(hi - lo) + 1
     else:
         n_bins = params.histogram_bins
-        level_size = (hi - lo) / (n_bins - 1) if hi > lo else 1.0
+        bin_width = (hi - lo) / (n_bins - 1) if hi > lo else 1.0
 
     # 4.3.1 median (whole image at once; at a patch border the window sees the
     # neighbouring patch, not a mirrored edge).
     rgb_work = resize_color(rgb, step)
     filtered = median_rgb(rgb_work, params.median_size)
-    # 4.3.2 L*a*b* (per pixel, so once for the whole image), as 8-bit codes.
-    lab_codes = lab8(filtered)
+    # 4.3.2 L*a*b* (per pixel, so once for the whole image).
+    lab = rgb_to_lab(filtered)
 
     if params.patch_layout is not None:
         lr_patches, owner = _manual_patches(params.patch_layout, (h, w), step.color_shape)
@@ -344,13 +357,14 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
     if keep:
         lab_all = np.zeros((rows_w, cols_w, 3), dtype=np.float32)
         labels_all = np.zeros((rows_w, cols_w), dtype=np.int16)
-        patch_index = np.zeros((rows_w, cols_w), dtype=np.int16)
+        patch_index = np.zeros((rows_w, cols_w), dtype=np.int32)
         pieces = np.full((params.n_clusters, rows_w, cols_w), np.nan, dtype=np.float32)
     # Nearest valid depth anywhere, for patches without any valid sample.
     nearest_global = _fill_nearest(depth)
 
     def solve(rect: tuple[int, int, int, int]) -> _PatchResult:
-        return _solve_patch(rect, s, depth, lab_codes, nearest_global, params, lo, level_size, n_bins, keep)
+        return _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bin_width, n_bins,
+                            keep)
 
     # Patches are independent: solve them in threads (NumPy and OpenCV release
     # the GIL), write them back in order, so the result does not depend on timing.
@@ -408,12 +422,13 @@ class _PatchResult:
     per_cluster: np.ndarray | None = None
 
 
-def _solve_patch(rect, s, depth, lab_codes, nearest_global, params, lo, level_size, n_bins, keep) -> _PatchResult:
+def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bin_width, n_bins,
+                 keep) -> _PatchResult:
     """Steps 5-7 for one patch (pure: reads the shared arrays, writes nothing shared)."""
     r0, r1, c0, c1 = rect
     # 4.3.2-4.3.3: unified L*, k-means.
     clustered = cluster_colors(
-        lab_codes[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
+        lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
         iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
         white_bound=params.white_bound, max_lightness=params.max_lightness,
         lightness_weight=params.lightness_weight, return_features=keep)
@@ -432,7 +447,7 @@ def _solve_patch(rect, s, depth, lab_codes, nearest_global, params, lo, level_si
             continue
         if params.correct_depth:
             corrected[in_c] = correct_cluster_depths(
-                d_patch[in_c], origin=lo, level_size=level_size, n_bins=n_bins,
+                d_patch[in_c], origin=lo, level_size=level_size, bin_width=bin_width, n_bins=n_bins,
                 dominant_fraction=params.dominant_fraction, tolerance_levels=params.tolerance_levels)
         else:
             corrected[in_c] = d_patch[in_c]

@@ -2,9 +2,15 @@
 
 The refinement places each depth pixel on the color grid ``s`` pixels apart,
 so it needs an integer factor ``s``. When the color image covers the depth
-map at a non-integer ratio (thesis: 7.4), ``s = round(ratio)`` and the color
-image is resized by ``s / ratio`` with bilinear interpolation (thesis: 7 and
-0.95, 1760 x 1440 -> 1672 x 1368).
+map at a non-integer ratio, ``s = round(ratio)`` and the color image is
+resized by ``s / ratio`` with bilinear interpolation (thesis: ratio 7.4, so
+``s = 7`` and color x0.95, 1760 x 1440 -> 1672 x 1368).
+
+The ratio is measured from the two arrays' shapes, so the color image must
+cover the same field of view as the depth map: crop it first (the thesis's
+7.4 is the ratio of the scene content; its frames, 1760 / 176, are 10 apart),
+or align with :mod:`depthrefine.align`, which renders the depth on the color
+camera's grid.
 """
 
 from __future__ import annotations
@@ -130,4 +136,4 @@ def resize_depth_nearest(depth: np.ndarray, shape: tuple[int, int]) -> np.ndarra
     """Resize a depth map to ``shape`` with nearest sampling (never blends two depths)."""
     if depth.shape[:2] == tuple(shape):
         return depth
-    return cv2.resize(depth, (shape[1], shape[0]), interpolation=cv2.INTER_NEAREST)
+    return cv2.resize(depth, (shape[1], shape[0]), interpolation=cv2.INTER_NEAREST_EXACT)

@@ -19,7 +19,6 @@ from ._validate import as_rgb_float, check_positive_int
 __all__ = [
     "median_rgb",
     "rgb_to_lab",
-    "lab8",
     "lightness_classes",
     "unify_lightness",
     "kmeans",
@@ -90,38 +89,20 @@ def _median_uint8_parallel(rgb: np.ndarray, size: int) -> np.ndarray:
     return out
 
 
-def lab8(rgb: np.ndarray) -> np.ndarray:
-    """CIE L*a*b* in OpenCV's 8-bit encoding: ``(L* * 255/100, a* + 128, b* + 128)``, uint8.
-
-    uint8 input uses OpenCV's 8-bit conversion directly; other inputs are
-    converted in float and rounded the same way. The clustering works on
-    these codes: a* and b* in whole units, L* in steps of 100/255.
-
-    Examples
-    --------
-    >>> lab8(np.array([[[255, 0, 0]]], np.uint8)).tolist()
-    [[[136, 208, 195]]]
-    """
-    if rgb.dtype == np.uint8:
-        return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2Lab)
-    lab = rgb_to_lab(rgb)
-    lab[..., 0] *= np.float32(255.0 / 100.0)
-    lab[..., 1:] += np.float32(128.0)
-    return np.clip(np.floor(lab + 0.5), 0, 255).astype(np.uint8)
-
-
-def lightness_classes(l8: np.ndarray, *, black_bound: float = 0.20, white_bound: float = 0.80,
+def lightness_classes(lightness: np.ndarray, *, black_bound: float = 0.20, white_bound: float = 0.80,
                       max_lightness: float = 100.0) -> np.ndarray:
-    """Class of each pixel from its 8-bit L* code: 0 black, 1 color, 2 white (Fig. 32).
+    """Class of each pixel from its L*: 0 black, 1 color, 2 white (thesis Fig. 32).
+
+    Black: L* <= ``black_bound * max_lightness``; white: L* >=
+    ``white_bound * max_lightness``; color otherwise.
 
     Examples
     --------
-    >>> lightness_classes(np.array([0, 51, 52, 203, 204, 255], np.uint8)).tolist()
+    >>> lightness_classes(np.array([0.0, 20.0, 20.5, 79.9, 80.0, 100.0])).tolist()
     [0, 0, 1, 1, 2, 2]
     """
-    lightness = l8.astype(np.float32) * np.float32(100.0 / 255.0)
-    black = lightness <= np.float32(black_bound * max_lightness)
-    white = lightness >= np.float32(white_bound * max_lightness)
+    black = lightness <= black_bound * max_lightness
+    white = lightness >= white_bound * max_lightness
     return (1 - black.astype(np.uint8) + white.astype(np.uint8)).astype(np.uint8)
 
 
@@ -264,8 +245,15 @@ def _assign(cols: np.ndarray, means: np.ndarray) -> np.ndarray:
     return dist.argmin(axis=1).astype(np.int32)
 
 
+#: k-means runs over the histogram of distinct features, with a* and b*
+#: binned at this step (L* units); every pixel of a bin takes its bin's
+#: center, which is at most a quarter unit from its exact value.
+AB_STEP = 0.5
+_AB_BITS = 9  # 2**9 bins of AB_STEP cover a*, b* in [-128, 128)
+
+
 def cluster_colors(
-    lab8_patch: np.ndarray,
+    lab_patch: np.ndarray,
     *,
     n_clusters: int = 4,
     iterations: int = 10,
@@ -276,68 +264,76 @@ def cluster_colors(
     lightness_weight: float = 1.0,
     return_features: bool = False,
 ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-    """Cluster one patch's colors (thesis 4.3.2-4.3.3) from its 8-bit L*a*b* codes.
+    """Cluster one patch's colors (thesis 4.3.2-4.3.3) from its L*a*b* values.
 
-    L* is unified to its class mean (if ``unify``) and weighted; then k-means
-    runs over the histogram of distinct (L*, a*, b*) features, weighted by
-    their pixel counts, which gives the clusters of k-means over every pixel.
+    L* is unified to the mean L* of its black / color / white class (if
+    ``unify``; the means are the patch's) and weighted by
+    ``lightness_weight``; then deterministic k-means (:func:`kmeans`) runs on
+    (w L*, a*, b*). For speed it runs over the histogram of distinct features,
+    weighted by their pixel counts, which gives the clusters of k-means over
+    every pixel of the binned features: a* and b* are binned at
+    :data:`AB_STEP` units (L* too when it is not unified).
 
     Parameters
     ----------
-    lab8_patch : (M, N, 3) uint8 ndarray
-        Output of :func:`lab8` for the patch.
+    lab_patch : (M, N, 3) float ndarray
+        CIE L*a*b* of the patch (:func:`rgb_to_lab`).
 
     Returns
     -------
     labels : (M, N) int16 ndarray
         Cluster of each pixel, ``0 .. k'-1``.
     features : (M, N, 3) float32 ndarray
-        Only with ``return_features``: the clustered (L*, a*, b*) of each
-        pixel, L* unified but not weighted.
+        Only with ``return_features``: the L*a*b* of each pixel with L*
+        unified (not weighted).
 
     Examples
     --------
-    >>> patch = lab8(np.array([[[250, 0, 0], [240, 5, 5], [0, 0, 250], [5, 5, 240]]], np.uint8))
-    >>> cluster_colors(patch, n_clusters=2).tolist()
+    >>> rgb = np.array([[[250, 0, 0], [240, 5, 5], [0, 0, 250], [5, 5, 240]]], np.uint8)
+    >>> cluster_colors(rgb_to_lab(rgb), n_clusters=2).tolist()
     [[1, 1, 0, 0]]
     """
-    l8 = lab8_patch[..., 0]
-    a8 = lab8_patch[..., 1].astype(np.int32)
-    b8 = lab8_patch[..., 2].astype(np.int32)
-    lightness_step = 100.0 / 255.0
+    lightness = lab_patch[..., 0]
+    half = 1 << (_AB_BITS - 1)
+    qa = np.clip(np.floor(lab_patch[..., 1] / AB_STEP + 0.5), -half, half - 1).astype(np.int32) + half
+    qb = np.clip(np.floor(lab_patch[..., 2] / AB_STEP + 0.5), -half, half - 1).astype(np.int32) + half
+    ab_code = (qa << _AB_BITS) | qb
     if unify:
-        class_of_l8 = lightness_classes(np.arange(256, dtype=np.uint8), black_bound=black_bound,
-                                        white_bound=white_bound, max_lightness=max_lightness)
-        cls = class_of_l8[l8]
-        # Class means of L* from the 256-bin histogram of the L* codes.
-        hist_l = np.bincount(l8.ravel(), minlength=256).astype(np.float64)
-        n_cls = np.bincount(class_of_l8, weights=hist_l, minlength=3)
-        sum_l = np.bincount(class_of_l8, weights=hist_l * np.arange(256), minlength=3)
-        class_l = np.divide(sum_l, n_cls, out=np.zeros(3), where=n_cls > 0) * lightness_step
-        code = (cls.astype(np.int32) << 16) | (a8 << 8) | b8
-        counts = np.bincount(code.ravel(), minlength=3 << 16)
-        bins = np.flatnonzero(counts > 0)
-        inverse = None
-        lightness_of_bin = class_l[bins >> 16]
+        cls = lightness_classes(lightness, black_bound=black_bound, white_bound=white_bound,
+                                max_lightness=max_lightness)
+        n_cls = np.bincount(cls.ravel(), minlength=3)
+        sum_l = np.bincount(cls.ravel(), weights=lightness.ravel(), minlength=3)
+        class_l = np.divide(sum_l, n_cls, out=np.zeros(3), where=n_cls > 0)
+        code = (cls.astype(np.int32) << (2 * _AB_BITS)) | ab_code
+        lightness_of = lambda bins: class_l[bins >> (2 * _AB_BITS)]  # noqa: E731
     else:
-        code = (l8.astype(np.int32) << 16) | (a8 << 8) | b8
-        bins, inverse, counts_u = np.unique(code.ravel(), return_inverse=True, return_counts=True)
-        lightness_of_bin = (bins >> 16) * lightness_step
-    a_of_bin = ((bins >> 8) & 255) - 128.0
-    b_of_bin = (bins & 255) - 128.0
-    feats = np.stack([lightness_of_bin * lightness_weight, a_of_bin, b_of_bin], axis=1).astype(np.float32)
-    weights = counts[bins] if inverse is None else counts_u
+        ql = np.floor(lightness / AB_STEP + 0.5).astype(np.int32)
+        code = (ql << (2 * _AB_BITS)) | ab_code
+        lightness_of = lambda bins: (bins >> (2 * _AB_BITS)) * AB_STEP  # noqa: E731
+    space = 3 << (2 * _AB_BITS)
+    if unify and code.size * 4 >= space:
+        counts = np.bincount(code.ravel(), minlength=space)
+        bins = np.flatnonzero(counts > 0)
+        weights = counts[bins]
+        inverse = None
+    else:  # small patch, or L* not unified: sort instead of a large histogram
+        bins, inverse, weights = np.unique(code.ravel(), return_inverse=True, return_counts=True)
+    mask = (1 << _AB_BITS) - 1
+    feats = np.stack([
+        lightness_of(bins) * lightness_weight,
+        (((bins >> _AB_BITS) & mask) - half) * AB_STEP,
+        ((bins & mask) - half) * AB_STEP,
+    ], axis=1).astype(np.float32)
     bin_labels, _ = kmeans(feats, n_clusters, iterations, weights=weights)
     if inverse is None:
-        lut = np.zeros(3 << 16, dtype=np.int16)
+        lut = np.zeros(space, dtype=np.int16)
         lut[bins] = bin_labels
         labels = lut[code]
     else:
         labels = bin_labels.astype(np.int16)[inverse].reshape(code.shape)
     if not return_features:
         return labels
-    features = np.empty(lab8_patch.shape, dtype=np.float32)
-    features[..., 0] = (class_l[cls] if unify else l8 * lightness_step)
-    features[..., 1] = a8 - 128
-    features[..., 2] = b8 - 128
+    features = np.array(lab_patch, dtype=np.float32, copy=True)
+    if unify:
+        features[..., 0] = class_l[cls]
     return labels, features

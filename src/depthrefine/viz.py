@@ -77,7 +77,7 @@ def colorize_labels(labels: np.ndarray, patch_index: np.ndarray | None = None) -
     """
     ids = labels.astype(np.int64)
     if patch_index is not None:
-        ids = ids + 7 * patch_index.astype(np.int64)
+        ids = ids + (int(ids.max()) + 1 if ids.size else 1) * patch_index.astype(np.int64)
     # A fixed, well-spread palette: golden-ratio hues, alternating lightness.
     n = int(ids.max()) + 1 if ids.size else 1
     hues = (np.arange(n) * 0.618033988749895) % 1.0
