@@ -249,3 +249,22 @@ def test_python_dash_m(files, tmp_path):
                            "--params", str(toml)], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2 and "'k'" in proc.stderr and "Traceback" not in proc.stderr
     assert not out2.exists()
+
+
+def test_output_and_save_intermediate_on_one_path_is_exit_2(files, tmp_path, capsys):
+    depth, color = files
+    out = tmp_path / "same.png"
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--save-intermediate", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "same path" in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["color.png", "depth.png"]
+
+
+def test_patches_conflicting_with_a_patch_layout_in_the_params_file_is_exit_2(files, tmp_path, capsys):
+    depth, color = files
+    toml = tmp_path / "params.toml"
+    toml.write_text("patch_layout = [[0, 0, 64, 64]]\n", encoding="utf-8")
+    out = tmp_path / "out.png"
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--params", str(toml), "--patches", "2x2"]) == 2
+    err = capsys.readouterr().err
+    assert "conflicts with patch_layout" in err and not out.exists()

@@ -32,6 +32,10 @@ __all__ = ["main", "build_parser", "CliError"]
 COMMAND_MODULES = [
     "_refine",
     "_demo",
+    "_calibrate",
+    "_align",
+    "_run",
+    "_bench",
 ]
 
 

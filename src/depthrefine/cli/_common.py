@@ -12,7 +12,18 @@ from ..io import read_mapping, read_patch_layout
 from ..methods import METHODS, get_method
 from ..params import params_from_mapping
 
-__all__ = ["add_output", "add_overwrite", "add_params_options", "build_params", "parse_grid", "progress_bar"]
+__all__ = [
+    "add_output",
+    "add_overwrite",
+    "add_params_options",
+    "add_depth_options",
+    "add_shared_options",
+    "build_params",
+    "parse_grid",
+    "parse_count",
+    "parse_pixel_count",
+    "progress_bar",
+]
 
 
 def add_output(parser: argparse.ArgumentParser, *, help: str) -> None:
@@ -31,6 +42,48 @@ def parse_grid(text: str) -> tuple[int, int]:
     return int(m.group(1)), int(m.group(2))
 
 
+def parse_count(text: str) -> int:
+    """A whole number >= 1 (``--clusters``)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 1; got {text!r}")
+    return value
+
+
+def parse_pixel_count(text: str) -> int:
+    """``"20000000"``, ``"20_000_000"`` or ``"2e7"`` -> 20000000 (a positive integer)."""
+    try:
+        value = float(text.replace("_", "")) if any(c in text for c in ".eE") else int(text.replace("_", ""))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a pixel count such as 20000000 or 2e7; got {text!r}") from None
+    if value != value or value < 1 or value != int(value) or value > 2**62:
+        raise argparse.ArgumentTypeError(f"expected a positive whole pixel count; got {text!r}")
+    return int(value)
+
+
+def add_shared_options(parser: argparse.ArgumentParser) -> None:
+    """``--max-pixels`` and ``--debug``, which every subcommand takes (added by :func:`..cli.build_parser`)."""
+    if "--max-pixels" not in parser._option_string_actions:
+        parser.add_argument(
+            "--max-pixels", type=parse_pixel_count, metavar="N", default=None,
+            help="refuse any image over N pixels (rows x cols) before reading it; without it, images whose "
+                 "processing would need more memory than the machine has available are refused")
+    if "--debug" not in parser._option_string_actions:
+        parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                            help="show tracebacks of internal failures")
+
+
+def add_depth_options(parser: argparse.ArgumentParser) -> None:
+    """``--saturated-invalid``: for commands that read a depth file."""
+    parser.add_argument(
+        "--saturated-invalid", action="store_true",
+        help="read the largest code of an integer depth file (255, 65535), which many ToF cameras write for "
+             "saturated pixels, as no measurement (default: a valid depth)")
+
+
 def add_params_options(parser: argparse.ArgumentParser) -> None:
     """--method, --patches / --patch-file, --clusters, --params."""
     parser.add_argument("--method", default="thesis", choices=sorted(METHODS),
@@ -40,7 +93,7 @@ def add_params_options(parser: argparse.ArgumentParser) -> None:
                       help="automatic patch grid, across x down (thesis default 4x4)")
     grid.add_argument("--patch-file", metavar="F",
                       help="manual patch layout: JSON list of [x, y, width, height] in color pixels")
-    parser.add_argument("--clusters", type=int, metavar="K", help="k-means clusters per patch (thesis: 4)")
+    parser.add_argument("--clusters", type=parse_count, metavar="K", help="k-means clusters per patch (thesis: 4)")
     parser.add_argument("--params", metavar="FILE",
                         help="method parameters as TOML (or JSON): key = value per parameter")
 
@@ -52,12 +105,17 @@ def build_params(args: argparse.Namespace) -> Any:
     if args.params:
         overrides.update(read_mapping(args.params, what="parameter"))
     if args.patches is not None:
+        if overrides.get("patch_layout") is not None:
+            raise ValueError(
+                f"--patches {args.patches[0]}x{args.patches[1]} conflicts with patch_layout in parameter file "
+                f"{args.params}; drop one of them."
+            )
         overrides["patches"] = args.patches
     if args.patch_file is not None:
         overrides["patch_layout"] = read_patch_layout(args.patch_file)
     if args.clusters is not None:
         if args.clusters < 1:
-            raise ValueError(f"--clusters must be >= 1; got {args.clusters}.")
+            raise ValueError(f"--clusters must be >= 1: n_clusters must be >= 1; got {args.clusters}.")
         overrides["n_clusters"] = args.clusters
     if entry.params_type is None:
         if overrides:

@@ -10,12 +10,14 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..io import atomic_directory, check_output, read_depth, read_rgb, write_depth, write_rgb
+from ..io import (DEPTH_SUFFIXES, atomic_directory, check_output, check_output_dir, read_depth, read_rgb,
+                  write_depth, write_rgb)
 from ..methods import get_method, refine
 from ..refinement import refine_with_intermediates
 from ..scale import plan_scale
 from .. import viz
-from ._common import add_output, add_overwrite, add_params_options, build_params, params_dict, progress_bar
+from ._common import (add_depth_options, add_output, add_overwrite, add_params_options, build_params,
+                      params_dict, progress_bar)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -34,18 +36,28 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--save-intermediate", metavar="DIR",
                    help="write the pictures of the intermediate steps (and the parameters) into DIR")
     add_overwrite(p)
+    add_depth_options(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    out = check_output(args.output, overwrite=args.overwrite)
-    depth_lr = read_depth(args.depth)
+    out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES,
+                       inputs=(args.depth, args.color))
+    if args.save_intermediate:
+        folder = Path(args.save_intermediate).resolve()
+        if out.resolve() == folder:
+            raise ValueError(
+                f"-o {out} and --save-intermediate {args.save_intermediate} are the same path; "
+                "give the intermediate pictures a folder of their own."
+            )
+        check_output_dir(args.save_intermediate, overwrite=args.overwrite, what="--save-intermediate folder")
+    params = build_params(args)  # before reading the images: a bad parameter fails at once
+    depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
     if out.suffix.lower() in (".png", ".pgm") and depth_lr.dtype not in (np.uint8, np.uint16):
         raise ValueError(
             f"output {out}: the depth is {depth_lr.dtype}, which {out.suffix} cannot hold; write .tif or .npy."
         )
-    params = build_params(args)
     step = plan_scale(depth_lr.shape, rgb_hr.shape)
     entry = get_method(args.method)
     update, close = progress_bar(f"refine ({entry.name})")
@@ -59,6 +71,9 @@ def run(args: argparse.Namespace) -> int:
     finally:
         close()
 
+    # Only the thesis method needs an integer factor; the others resize straight to the color grid.
+    scale_note = step.describe() if entry.name == "thesis" or not step.resizes_color else (
+        f"ratio {step.ratio:.3f}, resized directly to {rgb_hr.shape[1]}x{rgb_hr.shape[0]}")
     record = {
         "depthrefine": __version__,
         "depth": str(args.depth),
@@ -66,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         "output": str(out),
         "method": entry.name,
         "params": params_dict(params),
-        "scale": step.describe(),
+        "scale": scale_note,
         "depth_shape": list(depth_lr.shape),
         "color_shape": list(rgb_hr.shape[:2]),
         "dtype": str(depth_lr.dtype),
@@ -78,7 +93,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         write_depth(out, depth_hr, dtype=depth_lr.dtype, overwrite=args.overwrite)
     h, w = depth_hr.shape
-    print(f"wrote {out} ({w}x{h}, {depth_lr.dtype}, method {entry.name}, {step.describe()})", file=sys.stderr)
+    if entry.name == "thesis" and step.resizes_color:
+        scale_note = f"x{step.factor} after the thesis scale step (see the note above)"
+    print(f"wrote {out} ({w}x{h}, {depth_lr.dtype}, method {entry.name}, {scale_note})", file=sys.stderr)
     return 0
 
 

@@ -9,38 +9,105 @@ import tempfile
 from pathlib import Path
 from typing import Callable, Iterator
 
-__all__ = ["check_output", "atomic_write", "atomic_directory", "InputFileError"]
+__all__ = ["check_output", "check_output_dir", "atomic_write", "atomic_directory", "InputFileError"]
 
 
 class InputFileError(ValueError):
     """A file a user gave cannot be used; the message names it and says what to do."""
 
 
-def check_output(path: str | os.PathLike, *, overwrite: bool = False, what: str = "output") -> Path:
+def check_output(
+    path: str | os.PathLike,
+    *,
+    overwrite: bool = False,
+    what: str = "output",
+    suffixes: tuple[str, ...] | None = None,
+    inputs: tuple[str | os.PathLike, ...] = (),
+) -> Path:
     """Check, before any work, that ``path`` can be written.
 
-    Raises ``InputFileError`` if it exists and ``overwrite`` is false, if it is
-    a directory, or if its folder does not exist or cannot be written.
+    Parameters
+    ----------
+    path : str or path-like
+        The output file.
+    overwrite : bool
+        Whether an existing file may be replaced.
+    what : str
+        What the file is, for the message (``"output"``).
+    suffixes : tuple of str, optional
+        Extensions the writer understands (lower case, with the dot).
+    inputs : tuple of path-like
+        Files the command reads: the output may never be one of them.
+
+    Raises
+    ------
+    InputFileError
+        If it exists and ``overwrite`` is false, if it is a folder or one of
+        ``inputs``, if its extension is not in ``suffixes``, or if its folder
+        does not exist or cannot be written.
     """
     p = Path(path)
     if p.is_dir():
         raise InputFileError(f"{what} {p} is a folder; give a file name.")
+    for source in inputs:
+        if source is not None and _same_file(p, Path(source)):
+            raise InputFileError(f"{what} {p} is also an input file; choose another output name.")
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise InputFileError(
+            f"{what} {p}: unknown format {p.suffix or '(no extension)'!r}; use one of {', '.join(suffixes)}."
+        )
     if p.exists() and not overwrite:
         raise InputFileError(f"{what} {p} exists; pass --overwrite to replace it.")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise InputFileError(f"{what} {p}: folder {parent} does not exist; create it first.")
     if not os.access(parent, os.W_OK):
-        raise InputFileError(f"{what} {p}: folder {parent} is not writable.")
+        raise InputFileError(f"{what} {p}: folder {parent} is not writable; choose another folder.")
     return p
 
 
-def atomic_write(path: str | os.PathLike, write: Callable[[Path], None]) -> Path:
+def check_output_dir(path: str | os.PathLike, *, overwrite: bool = False, what: str = "folder") -> Path:
+    """Check, before any work, that :func:`atomic_directory` will accept ``path``.
+
+    Raises
+    ------
+    InputFileError
+        ``path`` is a file, a non-empty folder (without ``overwrite``), or its
+        parent folder is missing or not writable.
+    """
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputFileError(f"{what} {p} exists and is not a folder; give a folder name.")
+    if p.is_dir() and any(p.iterdir()) and not overwrite:
+        raise InputFileError(f"{what} {p} exists and is not empty; pass --overwrite to write into it.")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputFileError(f"{what} {p}: its parent {parent} does not exist; create it first.")
+    if not os.access(parent, os.W_OK) or (p.is_dir() and not os.access(p, os.W_OK)):
+        raise InputFileError(f"{what} {p}: not writable; choose another folder.")
+    return p
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[Path], None], *, overwrite: bool = True) -> Path:
     """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``.
 
     The file appears whole or not at all; on any error the temporary file is
     removed and the error re-raised. The temporary name keeps the suffix so
-    writers that pick a format by extension work.
+    writers that pick a format by extension work. With ``overwrite=False`` the
+    final step is a hard link, which fails if ``path`` appeared meanwhile
+    (another program wrote it after :func:`check_output`).
+
+    Raises
+    ------
+    InputFileError
+        ``overwrite`` is false and ``path`` exists.
     """
     p = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix or ".part",
@@ -50,11 +117,20 @@ def atomic_write(path: str | os.PathLike, write: Callable[[Path], None]) -> Path
     try:
         write(tmp_path)
         os.chmod(tmp_path, 0o666 & ~_umask())
-        os.replace(tmp_path, p)
-    except BaseException:
+        if overwrite:
+            os.replace(tmp_path, p)
+        else:
+            try:
+                os.link(tmp_path, p)
+            except FileExistsError:
+                raise InputFileError(f"output {p} exists; pass --overwrite to replace it.") from None
+            except OSError:  # no hard links on this file system
+                if p.exists():
+                    raise InputFileError(f"output {p} exists; pass --overwrite to replace it.") from None
+                os.replace(tmp_path, p)
+    finally:
         with contextlib.suppress(OSError):
             tmp_path.unlink()
-        raise
     return p
 
 
@@ -66,14 +142,8 @@ def atomic_directory(path: str | os.PathLike, *, overwrite: bool = False) -> Ite
     files are replaced by the new ones only at the end (files of the same
     name are overwritten, others kept).
     """
-    p = Path(path)
-    if p.exists() and not p.is_dir():
-        raise InputFileError(f"{p} exists and is not a folder; give a folder name.")
-    if p.is_dir() and any(p.iterdir()) and not overwrite:
-        raise InputFileError(f"folder {p} exists and is not empty; pass --overwrite to write into it.")
+    p = check_output_dir(path, overwrite=overwrite)
     parent = p.parent if str(p.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputFileError(f"folder {p}: its parent {parent} does not exist; create it first.")
     tmp = Path(tempfile.mkdtemp(prefix=f".{p.name}.", dir=parent))
     try:
         yield tmp

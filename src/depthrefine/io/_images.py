@@ -10,6 +10,16 @@ Representation rules, set here once:
   never becomes 0; invalid pixels (NaN) are written as 0 in every format.
 - A color file is read as RGB (H, W, 3) uint8 or uint16 (never BGR); a gray
   image is repeated to three channels and an alpha channel is dropped.
+- Saturated pixels: many ToF cameras write the largest code of the file's
+  integer type (255, 65535) for a saturated or out-of-range pixel. That code
+  is a valid depth by default (255 is the nearest level of the thesis's 8-bit
+  depth intensity); ``read_depth(..., saturated_invalid=True)`` (CLI
+  ``--saturated-invalid``) reads it as 0, no measurement. In float files
+  inf, NaN, 0 and negative values are always invalid.
+- Size: before decoding, the image's size is read from its header (PNG,
+  JPEG, BMP, TIFF, ``.npy``) and checked by
+  :func:`depthrefine._validate.check_pixels` (``max_pixels`` and the memory
+  the machine has), so an absurdly large file is refused up front.
 
 Formats: PNG (8/16-bit), TIFF (any dtype, float32 for metric depth), NumPy
 ``.npy``; color also JPEG/BMP and anything else OpenCV reads.
@@ -17,14 +27,18 @@ Formats: PNG (8/16-bit), TIFF (any dtype, float32 for metric depth), NumPy
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
+import tempfile
 from pathlib import Path
+from typing import Iterator
 
 import cv2
 import numpy as np
 import tifffile
 
-from .._validate import check_rgb
+from .._validate import check_pixels, check_rgb, no_valid_pixel_message
 from ._files import InputFileError, atomic_write, check_output
 
 __all__ = [
@@ -34,6 +48,7 @@ __all__ = [
     "write_rgb",
     "DEPTH_SUFFIXES",
     "depth_to_dtype",
+    "image_shape",
 ]
 
 DEPTH_SUFFIXES = (".png", ".tif", ".tiff", ".npy", ".pgm")
@@ -43,12 +58,127 @@ _INTEGER_SUFFIXES = (".png", ".pgm")
 def _existing(path: str | os.PathLike, what: str) -> Path:
     p = Path(path)
     if not p.exists():
-        raise InputFileError(f"{what} file {p} does not exist.")
+        raise InputFileError(f"{what} file {p} does not exist; check the path.")
     if p.is_dir():
         raise InputFileError(f"{what} file {p} is a folder; give an image file.")
     if not os.access(p, os.R_OK):
-        raise InputFileError(f"{what} file {p} is not readable (permissions).")
+        raise InputFileError(f"{what} file {p} is not readable; check its permissions.")
+    if p.stat().st_size == 0:
+        raise InputFileError(f"{what} file {p} is empty (0 bytes); save it again.")
     return p
+
+
+def image_shape(path: str | os.PathLike) -> tuple[int, ...] | None:
+    """``(rows, cols)`` of an image file from its header, without decoding it.
+
+    PNG, JPEG, BMP, TIFF and ``.npy`` are understood; ``None`` for other
+    formats or a header that cannot be parsed (the decoder will then judge
+    the file).
+    """
+    p = Path(path)
+    suffix = p.suffix.lower()
+    try:
+        if suffix == ".npy":
+            with open(p, "rb") as fh:
+                version = np.lib.format.read_magic(fh)
+                reader = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+                shape = reader(fh)[0]
+            return tuple(int(n) for n in shape[:2]) if len(shape) >= 2 else None
+        if suffix in (".tif", ".tiff"):
+            with tifffile.TiffFile(p) as tif:
+                page = tif.pages[0]
+                return (int(page.imagelength), int(page.imagewidth))
+        with open(p, "rb") as fh:
+            head = fh.read(32)
+            if head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR":
+                return (int.from_bytes(head[20:24], "big"), int.from_bytes(head[16:20], "big"))
+            if head[:2] == b"BM" and len(head) >= 26:
+                return (abs(int.from_bytes(head[22:26], "little", signed=True)),
+                        int.from_bytes(head[18:22], "little", signed=True))
+            if head[:2] == b"\xff\xd8":
+                return _jpeg_shape(fh)
+    except Exception:  # noqa: BLE001 - a damaged header: let the decoder report it
+        return None
+    return None
+
+
+def _jpeg_shape(fh) -> tuple[int, int] | None:
+    """Scan JPEG markers for the start-of-frame segment and read its size."""
+    fh.seek(2)
+    while True:
+        marker = fh.read(2)
+        if len(marker) < 2 or marker[0] != 0xFF:
+            return None
+        kind = marker[1]
+        if kind == 0xFF:  # fill byte
+            fh.seek(-1, os.SEEK_CUR)
+            continue
+        if kind in (0x01,) or 0xD0 <= kind <= 0xD7:  # markers without a length
+            continue
+        length = int.from_bytes(fh.read(2), "big")
+        if length < 2:
+            return None
+        if 0xC0 <= kind <= 0xCF and kind not in (0xC4, 0xC8, 0xCC):
+            seg = fh.read(5)
+            return (int.from_bytes(seg[1:3], "big"), int.from_bytes(seg[3:5], "big"))
+        fh.seek(length - 2, os.SEEK_CUR)
+
+
+def _check_size(p: Path, what: str, max_pixels: int | None, shape: tuple[int, ...] | None = None) -> None:
+    """Refuse a file whose image is over the pixel or memory limit (header first, no decoding)."""
+    shape = image_shape(p) if shape is None else shape
+    if shape is None or len(shape) < 2:
+        return
+    try:
+        check_pixels(shape, max_pixels=max_pixels, name=f"{what} file {p}")
+    except ValueError as exc:
+        raise InputFileError(str(exc)) from None
+
+
+def _bad_file(p: Path, what: str, detail: str) -> InputFileError:
+    detail = " ".join(detail.split())
+    return InputFileError(
+        f"{what} file {p} cannot be read ({detail}); it is truncated, damaged or not an image: "
+        "check it or save it again."
+    )
+
+
+def _truncated(p: Path) -> str | None:
+    """Why a PNG or JPEG file seems cut short (no end marker near its end), else ``None``."""
+    with open(p, "rb") as fh:
+        head = fh.read(8)
+        fh.seek(max(0, p.stat().st_size - 64))
+        tail = fh.read()
+    if head[:8] == b"\x89PNG\r\n\x1a\n" and b"IEND" not in tail:
+        return "the PNG has no IEND chunk"
+    if head[:2] == b"\xff\xd8" and b"\xff\xd9" not in tail:
+        return "the JPEG has no end-of-image marker"
+    return None
+
+
+@contextlib.contextmanager
+def _captured_stderr_fd() -> Iterator[list[str]]:
+    """Collect what C libraries (libpng, libjpeg, OpenCV) print on file descriptor 2.
+
+    Decoders report damage by printing; the command line must show one line
+    only, so their words are caught here and put into our message.
+    """
+    out: list[str] = []
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError, AttributeError):
+        yield out
+        return
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield out
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            out.append(tmp.read().decode("utf-8", "replace").strip())
 
 
 def _read_any(p: Path, what: str) -> np.ndarray:
@@ -59,27 +189,36 @@ def _read_any(p: Path, what: str) -> np.ndarray:
         elif suffix in (".tif", ".tiff"):
             arr = tifffile.imread(p)
         else:
-            arr = cv2.imread(str(p), cv2.IMREAD_UNCHANGED)
-            if arr is None:
-                raise InputFileError(
-                    f"{what} file {p} cannot be read as an image (truncated, or not an image file)."
-                )
+            with _captured_stderr_fd() as said:
+                arr = cv2.imread(str(p), cv2.IMREAD_UNCHANGED)
+            said_text = " ".join(said).strip()
+            if arr is None or any(word in said_text for word in ("Premature end", "Corrupt", "rror")):
+                reason = "; ".join(r for r in (_truncated(p), said_text) if r)
+                raise _bad_file(p, what, reason or "OpenCV cannot decode it")
     except InputFileError:
         raise
     except Exception as exc:  # noqa: BLE001 - any decoder failure is a bad file
-        raise InputFileError(f"{what} file {p} cannot be read: {type(exc).__name__}: {exc}") from None
+        raise _bad_file(p, what, f"{type(exc).__name__}: {exc}") from None
     if not isinstance(arr, np.ndarray) or arr.dtype == object:
-        raise InputFileError(f"{what} file {p} does not hold a numeric image.")
+        raise InputFileError(f"{what} file {p} does not hold a numeric image; save the image as PNG, TIFF or .npy.")
     return arr
 
 
-def read_depth(path: str | os.PathLike) -> np.ndarray:
+def read_depth(
+    path: str | os.PathLike, *, max_pixels: int | None = None, saturated_invalid: bool = False
+) -> np.ndarray:
     """Read a depth map in its own dtype; 0 (or NaN) marks missing pixels.
 
     Parameters
     ----------
     path : str or path-like
         ``.png`` (8/16-bit), ``.tif``/``.tiff`` (any dtype), ``.npy`` or ``.pgm``.
+    max_pixels : int, optional
+        Refuse a larger image before decoding it (see
+        :func:`depthrefine._validate.check_pixels`; the memory check always applies).
+    saturated_invalid : bool
+        Read the largest code of an integer file (255, 65535, ...) as 0, no
+        measurement: the saturation code of many ToF cameras.
 
     Returns
     -------
@@ -89,9 +228,11 @@ def read_depth(path: str | os.PathLike) -> np.ndarray:
     Raises
     ------
     InputFileError (a ValueError)
-        Missing, unreadable or non-depth file (e.g. a color image).
+        Missing, unreadable, too large or non-depth file (e.g. a color
+        image), or a depth map without any valid pixel.
     """
     p = _existing(path, "depth")
+    _check_size(p, "depth", max_pixels)
     arr = _read_any(p, "depth")
     if arr.ndim == 3 and arr.shape[2] in (3, 4) and p.suffix.lower() not in (".npy", ".tif", ".tiff"):
         # A gray depth map saved as RGB: accept when the channels agree.
@@ -111,7 +252,13 @@ def read_depth(path: str | os.PathLike) -> np.ndarray:
     if arr.dtype == np.float16:
         arr = arr.astype(np.float32)
     if arr.size == 0:
-        raise InputFileError(f"depth file {p} is empty.")
+        raise InputFileError(f"depth file {p} is empty (shape {arr.shape}); save the depth map again.")
+    _check_size(p, "depth", max_pixels, arr.shape)
+    if saturated_invalid and arr.dtype.kind in "ui":
+        arr = np.where(arr == np.iinfo(arr.dtype).max, arr.dtype.type(0), arr)
+    with np.errstate(invalid="ignore"):
+        if not (np.isfinite(arr) & (arr > 0)).any():
+            raise InputFileError(no_valid_pixel_message(f"depth file {p}"))
     return np.ascontiguousarray(arr)
 
 
@@ -172,16 +319,21 @@ def write_depth(
         elif not cv2.imwrite(str(tmp), data):
             raise OSError(f"OpenCV could not write {p}")
 
-    return atomic_write(p, _write)
+    return atomic_write(p, _write, overwrite=overwrite)
 
 
-def read_rgb(path: str | os.PathLike) -> np.ndarray:
+def read_rgb(path: str | os.PathLike, *, max_pixels: int | None = None) -> np.ndarray:
     """Read a color image as RGB (H, W, 3) uint8 or uint16 (float TIFF: float32 in [0, 1]).
 
-    Gray images are repeated to three channels, alpha is dropped.
+    Gray images are repeated to three channels, alpha is dropped. An image
+    over ``max_pixels`` or the machine's memory is refused before decoding
+    (see :func:`depthrefine._validate.check_pixels`).
     """
     p = _existing(path, "color")
+    _check_size(p, "color", max_pixels)
     arr = _read_any(p, "color")
+    if arr.ndim >= 2:
+        _check_size(p, "color", max_pixels, arr.shape)
     if arr.ndim == 3 and arr.shape[2] in (3, 4) and p.suffix.lower() not in (".npy", ".tif", ".tiff"):
         arr = cv2.cvtColor(arr, cv2.COLOR_BGRA2RGB if arr.shape[2] == 4 else cv2.COLOR_BGR2RGB)
     if arr.dtype == np.float64:
@@ -201,4 +353,4 @@ def write_rgb(path: str | os.PathLike, rgb: np.ndarray, *, overwrite: bool = Fal
         if not cv2.imwrite(str(tmp), bgr):
             raise OSError(f"OpenCV could not write {p}")
 
-    return atomic_write(p, _write)
+    return atomic_write(p, _write, overwrite=overwrite)

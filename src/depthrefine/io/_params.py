@@ -25,7 +25,7 @@ def read_mapping(path: str | os.PathLike, *, what: str = "parameter") -> dict[st
             data = tomllib.loads(text.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError, tomllib.TOMLDecodeError) as exc:
         kind = "JSON" if p.suffix.lower() == ".json" else "TOML"
-        raise InputFileError(f"{what} file {p} is not valid {kind}: {exc}") from None
+        raise InputFileError(f"{what} file {p} is not valid {kind} ({exc}); fix its syntax.") from None
     if not isinstance(data, dict):
         raise InputFileError(f"{what} file {p} must hold a table of key = value pairs.")
     return data
@@ -42,7 +42,9 @@ def read_patch_layout(path: str | os.PathLike) -> tuple[tuple[int, int, int, int
     try:
         data = json.loads(p.read_text(encoding="utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputFileError(f"patch file {p} is not valid JSON: {exc}") from None
+        raise InputFileError(
+            f"patch file {p} is not valid JSON ({exc}); give a list of rectangles [x, y, width, height]."
+        ) from None
     if isinstance(data, dict) and "patches" in data:
         data = data["patches"]
     if not isinstance(data, list) or not data:
