@@ -1,0 +1,195 @@
+"""``depthrefine calibrate`` and ``depthrefine calibrate-stereo``: checkerboard calibration."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+
+import numpy as np
+
+from ..calibrate import MIN_VIEWS, calibrate_from_corners, calibrate_stereo_from_corners, find_board_corners
+from ..io import InputFileError, check_output, read_camera, read_depth, read_rgb, write_camera, write_rig
+from . import CliError
+from ._common import add_overwrite
+
+_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+
+
+def parse_board(text: str) -> tuple[int, int]:
+    """``"9x6"`` -> ``(9, 6)``: inner corners across x down."""
+    m = re.fullmatch(r"\s*(\d+)\s*[xX*]\s*(\d+)\s*", text)
+    if not m or int(m.group(1)) < 2 or int(m.group(2)) < 2:
+        raise argparse.ArgumentTypeError(
+            f"expected the inner corners as COLSxROWS such as 9x6 (each >= 2); got {text!r}")
+    return int(m.group(1)), int(m.group(2))
+
+
+def parse_square(text: str) -> tuple[float, bool]:
+    """``"0.025"``, ``"25mm"``, ``"2.5cm"``, ``"0.025m"`` -> (metres, unit given)."""
+    m = re.fullmatch(r"\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(m|cm|mm)?\s*", text)
+    if not m or float(m.group(1)) <= 0:
+        raise argparse.ArgumentTypeError(
+            f"expected the square's side as a positive length such as 25mm, 2.5cm or 0.025 (metres); got {text!r}")
+    return float(m.group(1)) * _UNITS[m.group(2) or "m"], m.group(2) is not None
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "calibrate",
+        help="calibrate a camera (the ToF camera's intensity images) from checkerboard images",
+        description=(
+            "Find a checkerboard in each image (the ToF camera's intensity/amplitude images, thesis 3.2.1), "
+            "fit OpenCV's pinhole + distortion model and write K, dist (OpenCV order), image_size "
+            "[width, height] and the RMS reprojection error (pixels) as JSON. Images where the board is not "
+            f"found are reported and skipped; at least {MIN_VIEWS} must remain (10-20 covering the image "
+            "are best)."
+        ),
+    )
+    p.add_argument("images", nargs="+", metavar="IMAGES", help="checkerboard images of one camera")
+    _add_board_options(p)
+    p.add_argument("-o", "--output", required=True, metavar="OUT", help="camera file to write (.json)")
+    add_overwrite(p)
+    p.set_defaults(func=run_calibrate)
+
+    s = sub.add_parser(
+        "calibrate-stereo",
+        help="calibrate a depth + color rig from pairs of checkerboard images",
+        description=(
+            "Pairs of images of the same board pose, one from the depth camera (intensity) and one from the "
+            "color camera, in the same order. Writes both cameras' intrinsics and the rotation R and "
+            "translation t (metres) from the depth camera to the color camera as JSON "
+            "(X_color = R X_depth + t). Pairs where either image lacks the board are reported and skipped."
+        ),
+    )
+    s.add_argument("--depth-images", nargs="+", required=True, metavar="IMG",
+                   help="the depth camera's intensity images")
+    s.add_argument("--color-images", nargs="+", required=True, metavar="IMG",
+                   help="the color camera's images, paired with --depth-images in order")
+    _add_board_options(s)
+    s.add_argument("--depth-camera", metavar="FILE",
+                   help="known depth-camera intrinsics (from `calibrate`); default: fit them from the pairs")
+    s.add_argument("--color-camera", metavar="FILE",
+                   help="known color-camera intrinsics; default: fit them from the pairs")
+    s.add_argument("-o", "--output", required=True, metavar="OUT", help="rig file to write (.json)")
+    add_overwrite(s)
+    s.set_defaults(func=run_calibrate_stereo)
+
+
+def _add_board_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--board", required=True, type=parse_board, metavar="COLSxROWS",
+                   help="inner corners across x down, as OpenCV counts them (a board of 10x7 squares is 9x6)")
+    p.add_argument("--square", required=True, type=parse_square, metavar="SIZE",
+                   help="side of one square: 25mm, 2.5cm or 0.025 (a bare number is metres)")
+    p.add_argument("--k3", action="store_true",
+                   help="also fit the radial term k3 (default fixed at 0, as the Matlab toolbox the thesis "
+                        "used does; k3 over-fits with few views)")
+
+
+def _read_intensity(path: str) -> np.ndarray:
+    """A calibration image: color/gray 8/16-bit via read_rgb, else a one-channel float map."""
+    try:
+        return read_rgb(path)
+    except InputFileError as first:
+        try:
+            return read_depth(path)
+        except InputFileError:
+            raise first from None
+
+
+def _detect(paths: list[str], board: tuple[int, int], what: str) -> tuple[list, tuple[int, int]]:
+    """Corners of each image (None where not found) and the common (width, height)."""
+    corners, sizes = [], {}
+    for path in paths:
+        image = _read_intensity(path)
+        sizes.setdefault(image.shape[:2], path)
+        if len(sizes) > 1:
+            (r0, c0), (r1, c1) = list(sizes)[:2]
+            raise CliError(f"{what} {path} is {c1}x{r1} but {sizes[(r0, c0)]} is {c0}x{r0}; "
+                           "all images of one camera must have one size.")
+        corners.append(find_board_corners(image, board))
+    rows, cols = next(iter(sizes))
+    return corners, (cols, rows)
+
+
+def _square(args: argparse.Namespace, *, need_unit: bool) -> float:
+    metres, unit_given = args.square
+    if need_unit and not unit_given and metres >= 1.0:
+        raise CliError(
+            f"--square {metres:g} would be a {metres:g} m square; the rig's translation is in the square's "
+            "unit, so give it, e.g. --square 25mm."
+        )
+    return metres
+
+
+def run_calibrate(args: argparse.Namespace) -> int:
+    out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=tuple(args.images))
+    square = _square(args, need_unit=False)
+    corners, size = _detect(args.images, args.board, "image")
+    skipped = [path for path, c in zip(args.images, corners) if c is None]
+    views = [c for c in corners if c is not None]
+    if len(views) < MIN_VIEWS:
+        raise CliError(
+            f"the board was found in {len(views)} of {len(args.images)} images; calibration needs at least "
+            f"{MIN_VIEWS}. Check --board (inner corners, COLSxROWS) and take more views."
+        )
+    for path in skipped:  # after the check, so that an error stays one line
+        print(f"depthrefine calibrate: board {args.board[0]}x{args.board[1]} not found in {path}; skipped",
+              file=sys.stderr)
+    camera = calibrate_from_corners(views, board=args.board, square_size=square, image_size=size,
+                                    estimate_k3=args.k3)
+    extra = {
+        "board": list(args.board),
+        "square_size_m": square,
+        "images_used": [p for p, c in zip(args.images, corners) if c is not None],
+        "images_skipped": skipped,
+    }
+    write_camera(out, camera, overwrite=args.overwrite, extra=extra)
+    fx, fy = camera.focal
+    print(f"wrote {out}: fx {fx:.2f}, fy {fy:.2f}, cx {camera.K[0, 2]:.2f}, cy {camera.K[1, 2]:.2f} px, "
+          f"dist {np.round(camera.dist, 4).tolist()}, RMS {camera.rms:.3f} px from {len(views)} of "
+          f"{len(args.images)} images", file=sys.stderr)
+    return 0
+
+
+def run_calibrate_stereo(args: argparse.Namespace) -> int:
+    inputs = tuple(args.depth_images) + tuple(args.color_images)
+    out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=inputs)
+    if len(args.depth_images) != len(args.color_images):
+        raise CliError(
+            f"got {len(args.depth_images)} depth images and {len(args.color_images)} color images; give them "
+            "in pairs (the same board pose, in the same order)."
+        )
+    square = _square(args, need_unit=True)
+    depth_camera = read_camera(args.depth_camera, which="depth") if args.depth_camera else None
+    color_camera = read_camera(args.color_camera, which="color") if args.color_camera else None
+    depth_corners, depth_size = _detect(args.depth_images, args.board, "depth image")
+    color_corners, color_size = _detect(args.color_images, args.board, "color image")
+    for cam, size, what in ((depth_camera, depth_size, "--depth-camera"), (color_camera, color_size, "--color-camera")):
+        if cam is not None and cam.image_size != size:
+            raise CliError(f"{what} was calibrated on {cam.image_size[0]}x{cam.image_size[1]} images but the "
+                           f"images are {size[0]}x{size[1]}.")
+    used, notes = [], []
+    for dpath, cpath, d, c in zip(args.depth_images, args.color_images, depth_corners, color_corners):
+        if d is None or c is None:
+            where = " and ".join(p for p, x in ((dpath, d), (cpath, c)) if x is None)
+            notes.append(f"depthrefine calibrate-stereo: board not found in {where}; pair skipped")
+        else:
+            used.append([dpath, cpath])
+    if len(used) < MIN_VIEWS:
+        raise CliError(
+            f"the board was found in both images of {len(used)} of {len(args.depth_images)} pairs; a stereo "
+            f"calibration needs at least {MIN_VIEWS}. Check --board and take more pairs."
+        )
+    for note in notes:  # after the check, so that an error stays one line
+        print(note, file=sys.stderr)
+    rig = calibrate_stereo_from_corners(
+        depth_corners, color_corners, board=args.board, square_size=square, depth_size=depth_size,
+        color_size=color_size, depth_camera=depth_camera, color_camera=color_camera, estimate_k3=args.k3,
+    )
+    extra = {"board": list(args.board), "square_size_m": square, "pairs_used": used}
+    write_rig(out, rig, overwrite=args.overwrite, extra=extra)
+    centre = rig.color_centre
+    print(f"wrote {out}: color camera at {np.round(centre, 4).tolist()} m from the depth camera, rotated "
+          f"{rig.rotation_degrees:.2f} deg, stereo RMS {rig.rms:.3f} px from {len(used)} pairs", file=sys.stderr)
+    return 0

@@ -1,0 +1,266 @@
+"""The rig commands end to end on tmp_path: calibrate, calibrate-stereo, undistort, align, run, export-ply.
+
+The captures are synthetic (see test_calibrate.py and test_align.py): boards
+rendered through known lenses, and a two-plane scene seen by a depth camera
+with barrel distortion and a color camera 6 cm to its right, turned 1.8
+degrees. ``run`` on the raw captures must give the depth rendered directly in
+the color camera's (undistorted) view.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from depthrefine.cli import main
+from depthrefine.io import read_depth, read_ply, read_rig, write_rig
+from test_align import COLOR_CAM, DEPTH_CAM, RIG, RIG_R, RIG_T, edge_zone, render_depth
+from test_calibrate import COLOR_K, DEPTH_K, RIG_T as BOARD_RIG_T, color_views, depth_views
+
+SQUARE_ARG = "30mm"
+
+
+def _write_images(folder: Path, images, stem: str) -> list[str]:
+    folder.mkdir(exist_ok=True)
+    paths = []
+    for i, image in enumerate(images):
+        path = folder / f"{stem}_{i:02d}.png"
+        cv2.imwrite(str(path), image)
+        paths.append(str(path))
+    return paths
+
+
+@pytest.fixture(scope="module")
+def captures(tmp_path_factory) -> dict[str, Path]:
+    """Raw captures of the scene: uint16 mm depth (distorted), color (distorted), rig file, ground truth."""
+    folder = tmp_path_factory.mktemp("rig")
+    z_raw, _ = render_depth(DEPTH_CAM, distorted=True)
+    depth = np.floor(z_raw * 1000 + 0.5).astype(np.uint16)
+    depth[5:9, 5:9] = 0  # a patch without measurement
+    cv2.imwrite(str(folder / "depth.png"), depth)
+    _, front = render_depth(COLOR_CAM, RIG_R, RIG_T, distorted=True)
+    rgb = np.where(front[..., None], np.array([210, 40, 30], np.uint8), np.array([40, 90, 200], np.uint8))
+    cv2.imwrite(str(folder / "color.png"), cv2.cvtColor(rgb.astype(np.uint8), cv2.COLOR_RGB2BGR))
+    write_rig(folder / "rig.json", RIG)
+    (folder / "capture.toml").write_text(
+        'rig = "rig.json"\n\n[align]\nmethod = "reproject"\ndepth_units = 0.001\n\n'
+        '[refine]\nmethod = "thesis"\n\n[refine.params]\npatches = [2, 2]\n'
+    )
+    return {"folder": folder, "depth": folder / "depth.png", "color": folder / "color.png",
+            "rig": folder / "rig.json", "settings": folder / "capture.toml"}
+
+
+def _truth_mm() -> tuple[np.ndarray, np.ndarray]:
+    z, front = render_depth(COLOR_CAM.without_distortion(), RIG_R, RIG_T, distorted=False)
+    return z * 1000, front
+
+
+# ----------------------------------------------------------------------------
+# calibrate, calibrate-stereo
+# ----------------------------------------------------------------------------
+
+
+def test_calibrate_writes_the_camera_and_reports_skipped_images(tmp_path, capsys):
+    paths = _write_images(tmp_path / "ir", depth_views(), "ir")
+    blank = tmp_path / "ir" / "blank.png"
+    cv2.imwrite(str(blank), np.full((180, 240), 128, np.uint8))
+    out = tmp_path / "camera.json"
+    code = main(["calibrate", *paths, str(blank), "--board", "8x6", "--square", SQUARE_ARG, "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    assert f"not found in {blank}; skipped" in err
+    data = json.loads(out.read_text())
+    assert {"K", "dist", "image_size", "rms"} <= set(data)
+    assert data["image_size"] == [240, 180] and len(data["dist"]) == 5
+    K = np.array(data["K"])
+    assert abs(K[0, 0] / DEPTH_K[0, 0] - 1) < 0.01 and abs(K[1, 1] / DEPTH_K[1, 1] - 1) < 0.01
+    assert abs(K[0, 2] - DEPTH_K[0, 2]) < 2 and abs(K[1, 2] - DEPTH_K[1, 2]) < 2
+    assert data["images_skipped"] == [str(blank)] and 0 < data["rms"] < 0.3
+    # never overwrite without --overwrite
+    assert main(["calibrate", *paths, "--board", "8x6", "--square", "0.03", "-o", str(out)]) == 2
+    assert "exists; pass --overwrite" in capsys.readouterr().err
+
+
+def test_calibrate_with_too_few_boards_fails_cleanly(tmp_path, capsys):
+    paths = _write_images(tmp_path / "ir", depth_views()[:2], "ir")
+    out = tmp_path / "camera.json"
+    assert main(["calibrate", *paths, "--board", "8x6", "--square", "30mm", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "found in 2 of 2 images; calibration needs at least 3" in err and "Traceback" not in err
+    assert not out.exists()
+    assert main(["calibrate", *paths, "--board", "8", "--square", "30mm", "-o", str(out)]) == 2
+    assert "COLSxROWS" in capsys.readouterr().err
+
+
+def test_calibrate_stereo_writes_the_rig(tmp_path, capsys):
+    depth_paths = _write_images(tmp_path / "ir", depth_views(), "ir")
+    color_paths = _write_images(tmp_path / "rgb", color_views(), "rgb")
+    out = tmp_path / "rig.json"
+    args = ["calibrate-stereo", "--depth-images", *depth_paths, "--color-images", *color_paths,
+            "--board", "8x6", "-o", str(out)]
+    assert main(args + ["--square", "0.03"]) == 0, capsys.readouterr().err  # a bare number is metres
+    err = capsys.readouterr().err
+    assert "pair skipped" in err  # one color view misses the board
+    rig = read_rig(out)
+    assert np.abs(rig.t - BOARD_RIG_T).max() < 0.003
+    assert abs(rig.color_camera.focal[0] / COLOR_K[0, 0] - 1) < 0.01
+    data = json.loads(out.read_text())
+    assert {"depth_camera", "color_camera", "R", "t", "rms"} <= set(data)
+    # a bare square size of 30 would make t 1000 times too large: refused
+    assert main(args + ["--square", "30", "--overwrite"]) == 2
+    assert "give it, e.g. --square 25mm" in capsys.readouterr().err
+    assert main(args[:3] + args[4:] + ["--square", "30mm", "--overwrite"]) == 2  # 9 depth, 10 color
+    assert "in pairs" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------
+# undistort, align
+# ----------------------------------------------------------------------------
+
+
+def test_undistort_depth_and_intensity(captures, tmp_path, capsys):
+    out = tmp_path / "und.png"
+    assert main(["undistort", str(captures["depth"]), "--camera", str(captures["rig"]), "-o", str(out)]) == 0
+    und = read_depth(out)
+    assert und.dtype == np.uint16 and und.shape == (72, 96)
+    ideal, _ = render_depth(DEPTH_CAM, distorted=False)
+    assert set(np.unique(und)) <= {0, 1000, 2000}
+    assert (und == np.floor(ideal * 1000 + 0.5)).mean() > 0.9
+    out_rgb = tmp_path / "color_und.png"
+    assert main(["undistort", str(captures["color"]), "--camera", str(captures["rig"]), "--color", "--intensity",
+                 "-o", str(out_rgb)]) == 0
+    assert cv2.imread(str(out_rgb)).shape == (504, 672, 3)
+
+
+def test_align_reproject_and_shift(captures, tmp_path, capsys):
+    out = tmp_path / "aligned.png"
+    base = ["align", str(captures["depth"]), "--rig", str(captures["rig"])]
+    assert main(base + ["-o", str(out), "--depth-units", "0.001"]) == 0, capsys.readouterr().err
+    aligned = read_depth(out)
+    assert aligned.dtype == np.uint16 and aligned.shape == (72, 96)  # the 672 x 504 color grid / 7
+    assert "reprojected" in capsys.readouterr().err
+    out_shift = tmp_path / "shift.png"
+    assert main(base + ["-o", str(out_shift), "--method", "shift", "--depth-units", "0.001"]) == 0
+    assert "shifted" in capsys.readouterr().err
+    assert read_depth(out_shift).shape == (72, 96)
+    # the settings file's [align] gives the units
+    out_file = tmp_path / "from_settings.png"
+    assert main(["align", str(captures["depth"]), "--rig", str(captures["settings"]), "-o", str(out_file)]) == 0
+    assert np.array_equal(read_depth(out_file), aligned)
+    # reprojection without units: a clear error, no output
+    out_bad = tmp_path / "bad.png"
+    assert main(base + ["-o", str(out_bad)]) == 2
+    err = capsys.readouterr().err
+    assert "needs the depth's units" in err and not out_bad.exists()
+
+
+# ----------------------------------------------------------------------------
+# run, export-ply
+# ----------------------------------------------------------------------------
+
+
+def test_run_on_raw_captures_matches_the_color_view(captures, tmp_path, capsys):
+    out = tmp_path / "refined.png"
+    cloud = tmp_path / "cloud.ply"
+    used = tmp_path / "used.json"
+    code = main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["settings"]),
+                 "-o", str(out), "--ply", str(cloud), "--save-settings", str(used)])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    refined = read_depth(out)
+    assert refined.dtype == np.uint16 and refined.shape == (504, 672)
+    truth, front = _truth_mm()
+    # away from the rectangle's edge (one depth pixel = 7 color pixels) the depth is right
+    close = np.abs(refined.astype(np.float64) - truth) < 0.01 * truth
+    far_from_edge = ~edge_zone(front, 7)
+    assert close[far_from_edge].mean() > 0.99  # without the alignment: 0.53
+    # the edge follows the color edge: within 1 px almost everywhere
+    refined_front = refined < 1500
+    assert (refined_front == front)[~edge_zone(front, 1)].mean() > 0.999  # without: 0.979
+    # the point cloud: one point per valid pixel, in metres, colored
+    points, colors = read_ply(cloud)
+    assert points.shape[0] == np.count_nonzero(refined) and colors is not None
+    assert 0.9 < points[:, 2].min() and points[:, 2].max() < 2.2
+    # the settings written can be run again and give the same bytes
+    settings = json.loads(used.read_text())
+    assert settings["align"]["depth_units"] == 0.001 and settings["refine"]["params"]["patches"] == [2, 2]
+    again = tmp_path / "again.png"
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(used), "-o", str(again)]) == 0
+    assert again.read_bytes() == out.read_bytes()
+
+
+def test_run_with_the_thesis_shift_and_options(captures, tmp_path, capsys):
+    out = tmp_path / "refined.tif"
+    aligned = tmp_path / "aligned.png"
+    code = main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
+                 "--align", "shift", "--depth-units", "0.001", "--method", "nearest", "-o", str(out),
+                 "--save-aligned", str(aligned)])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    assert "shifted" in err
+    assert read_depth(out).shape == (504, 672) and read_depth(aligned).shape == (72, 96)
+
+
+def test_run_errors_leave_no_output(captures, tmp_path, capsys):
+    out = tmp_path / "refined.png"
+    cloud = tmp_path / "cloud.ply"
+    # 8-bit depth intensity cannot be reprojected without a conversion
+    intensity = tmp_path / "intensity.png"
+    cv2.imwrite(str(intensity), np.full((72, 96), 120, np.uint8))
+    assert main(["run", str(intensity), str(captures["color"]), "--rig", str(captures["rig"]), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "inverse_scale" in err and "Traceback" not in err
+    # --ply without units
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
+                 "--align", "shift", "--slope", "0.5", "-o", str(out), "--ply", str(cloud)]) == 2
+    assert "--ply needs the depth's units" in capsys.readouterr().err
+    # a color image of the wrong size
+    small = tmp_path / "small.png"
+    cv2.imwrite(str(small), np.zeros((50, 60, 3), np.uint8))
+    assert main(["run", str(captures["depth"]), str(small), "--rig", str(captures["settings"]), "-o", str(out)]) == 2
+    assert "color image is 60x50" in capsys.readouterr().err
+    # an unknown key in the settings file
+    bad = tmp_path / "bad.toml"
+    bad.write_text(f'rig = "{captures["rig"]}"\n[align]\ndepth_unit = 0.001\n')
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(bad), "-o", str(out)]) == 2
+    assert "unknown parameter(s) 'depth_unit'" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml", "intensity.png", "small.png"]
+
+
+def test_export_ply(captures, tmp_path, capsys):
+    truth, _ = _truth_mm()
+    depth = tmp_path / "depth_color_grid.png"
+    cv2.imwrite(str(depth), np.floor(truth + 0.5).astype(np.uint16))
+    out = tmp_path / "cloud.ply"
+    assert main(["export-ply", str(depth), str(captures["color"]), "--rig", str(captures["settings"]),
+                 "-o", str(out), "--stride", "4"]) == 0, capsys.readouterr().err
+    points, colors = read_ply(out)
+    assert points.shape == (126 * 168, 3) and colors.shape == points.shape
+    # back in the depth camera's frame the points lie on the two planes Z = 1 and Z = 2
+    in_depth_frame = (points.astype(np.float64) - RIG_T) @ RIG_R
+    assert np.all(np.minimum(np.abs(in_depth_frame[:, 2] - 1.0), np.abs(in_depth_frame[:, 2] - 2.0)) < 0.01)
+    assert main(["export-ply", str(depth), str(captures["color"]), "--rig", str(captures["rig"]),
+                 "-o", str(tmp_path / "x.ply")]) == 2
+    assert "units are unknown" in capsys.readouterr().err
+
+
+def test_run_with_a_non_integer_ratio_applies_the_scale_step(captures, tmp_path, capsys):
+    """Thesis 3.2.2: color 7.4 times the depth -> depth x7, color x0.95 (bilinear), result back to the color size."""
+    color_cam = COLOR_CAM.without_distortion().resized((533, 710))  # 72 x 96 depth pixels * 7.4
+    rig_file = tmp_path / "rig74.json"
+    rig = type(RIG)(DEPTH_CAM, color_cam, RIG_R, RIG_T)
+    write_rig(rig_file, rig)
+    _, front = render_depth(color_cam, RIG_R, RIG_T, distorted=False)
+    color = tmp_path / "color74.png"
+    cv2.imwrite(str(color), np.where(front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2))
+    out = tmp_path / "refined.png"
+    code = main(["run", str(captures["depth"]), str(color), "--rig", str(rig_file), "--align", "shift",
+                 "--depth-units", "0.001", "--patches", "2x2", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    assert "non-integer ratio 7.39" in err and "depth enlarged x7, color resized x0.946" in err
+    assert read_depth(out).shape == (533, 710)
