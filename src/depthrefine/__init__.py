@@ -9,12 +9,20 @@ The main entry point is :func:`refine`::
 Subpackages and modules, one per pipeline stage:
 
 - ``io``          reading and writing depth, color, parameter and camera files
+- ``calibrate``   checkerboard calibration: camera models and the depth + color rig
+- ``align``       undistortion, the thesis's shift alignment, calibrated reprojection
+- ``pointcloud``  metric depth, back-projection and projection, colored point clouds
 - ``scale``       the thesis's scale step (integer depth factor)
 - ``segment``     color clustering: median, L*a*b*, unified L*, k-means
 - ``refinement``  the thesis refinement (chapter 4), with its intermediates
 - ``baselines``   nearest, bilinear, bicubic
 - ``methods``     the registry of methods that :func:`refine` looks up
 - ``viz``         pictures: colorized depth, overlays, comparison figures
+- ``peers``       OpenCV-contrib guided filters as methods: jbf, guided, fgs, wmf
+- ``evaluate``    error metrics against ground truth (RMSE, MAE, edge RMSE, bad pixels)
+- ``simulate``    a simulated low-resolution ToF sensor (our model) from ground truth
+- ``bench``       the benchmark: protocols, cases, runs and scores
+- ``report``      the benchmark report: tables, figures, HTML
 - ``synthetic``   generated test scenes with known ground truth
 - ``cli``         the ``depthrefine`` command
 """

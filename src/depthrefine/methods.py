@@ -17,7 +17,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import baselines
+from . import baselines, peers
+from ._validate import check_pixels
+from .scale import plan_scale
 from .params import RefineParams
 from .refinement import refine_thesis
 
@@ -99,6 +101,7 @@ def refine(
     method: str = "thesis",
     params: Any = None,
     progress: Callable[[int, int], None] | None = None,
+    max_pixels: int | None = None,
 ) -> np.ndarray:
     """Upsample ``depth_lr`` to the resolution of ``rgb_hr`` with a registered method.
 
@@ -118,6 +121,10 @@ def refine(
         ``None`` for its defaults.
     progress : callable, optional
         ``progress(done, total)``, for long runs.
+    max_pixels : int, optional
+        Refuse a color image of more pixels, before any work. Whatever the
+        limit, an image whose estimated peak memory exceeds the machine's
+        available memory is refused (``docs/robustness.md``).
 
     Returns
     -------
@@ -127,7 +134,8 @@ def refine(
     Raises
     ------
     ValueError, TypeError
-        Unknown method, parameters of the wrong type, or bad arrays.
+        Unknown method, parameters of the wrong type, bad arrays, or an
+        image over ``max_pixels`` or the available memory.
 
     Examples
     --------
@@ -138,6 +146,10 @@ def refine(
     (144, 176)
     """
     entry = get_method(method)
+    if isinstance(rgb_hr, np.ndarray) and rgb_hr.ndim >= 2:
+        check_pixels(rgb_hr.shape, max_pixels=max_pixels, name="rgb_hr")
+        if isinstance(depth_lr, np.ndarray) and depth_lr.ndim == 2 and min(depth_lr.shape) > 0 < min(rgb_hr.shape[:2]):
+            plan_scale(depth_lr.shape, rgb_hr.shape)  # every method: refuse shapes that do not belong together
     if params is not None:
         if entry.params_type is None:
             raise TypeError(f"method {method!r} takes no parameters; pass params=None.")
@@ -155,3 +167,11 @@ register_method("thesis", refine_thesis, params_type=RefineParams,
 register_method("nearest", baselines.upsample_nearest, summary="nearest-neighbour enlargement", guided=False)
 register_method("bilinear", baselines.upsample_bilinear, summary="bilinear enlargement", guided=False)
 register_method("bicubic", baselines.upsample_bicubic, summary="bicubic enlargement", guided=False)
+register_method("jbf", peers.upsample_jbf, params_type=peers.JointBilateralParams,
+                summary="bilinear, then OpenCV joint bilateral filter guided by the color (Kopf 2007)")
+register_method("guided", peers.upsample_guided, params_type=peers.GuidedParams,
+                summary="bilinear, then OpenCV guided filter (He 2013)")
+register_method("fgs", peers.upsample_fgs, params_type=peers.FastGlobalSmootherParams,
+                summary="bilinear, then OpenCV fast global smoother (weighted least squares, Min 2014)")
+register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParams,
+                summary="bilinear, then OpenCV weighted median filter (Zhang 2014)")

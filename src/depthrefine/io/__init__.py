@@ -7,7 +7,12 @@ measurement; the output keeps the input's dtype; color is RGB).
 from ._files import InputFileError, atomic_directory, atomic_write, check_output, check_output_dir
 from ._images import DEPTH_SUFFIXES, depth_to_dtype, image_shape, read_depth, read_rgb, write_depth, write_rgb
 from ._params import read_mapping, read_patch_layout
+from ._camera import (
+    ChainSettings, read_camera, read_chain_settings, read_rig, write_camera, write_chain_settings, write_rig,
+)
+from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
+from ._datasets import DATASET_FOLDERS, dataset_folder, load_cases, read_park_scenes, read_rgbd_pairs
 
 __all__ = [
     "InputFileError",
@@ -24,8 +29,22 @@ __all__ = [
     "write_rgb",
     "read_mapping",
     "read_patch_layout",
+    "ChainSettings",
+    "read_camera",
+    "write_camera",
+    "read_rig",
+    "write_rig",
+    "read_chain_settings",
+    "write_chain_settings",
+    "read_ply",
+    "write_ply",
     "SAMPLE_SCALES",
     "SampleScene",
     "load_sample",
     "sample_folder",
+    "DATASET_FOLDERS",
+    "dataset_folder",
+    "load_cases",
+    "read_park_scenes",
+    "read_rgbd_pairs",
 ]

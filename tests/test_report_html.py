@@ -1,0 +1,113 @@
+"""The benchmark report (depthrefine.report) and its HTML page, checked in a real headless browser."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from depthrefine import report
+from depthrefine.bench import BenchRow, park_case
+from depthrefine.cli import main
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def _row(protocol, scene, scale, method, rmse, split="test", seconds=0.5):
+    return BenchRow(protocol, scene, scale, method, split, rmse, rmse / 2, rmse * 2, 0.5, 0.25, 1.0, seconds, 1.5)
+
+
+def test_summary_means_leave_out_the_tuning_scenes():
+    rows = [_row("park", "art", 4, "bilinear", 2.0), _row("park", "books", 4, "bilinear", 4.0),
+            _row("park", "dolls", 4, "bilinear", 100.0, split="tune")]
+    rmse_table = report.summary_tables(rows)[0]
+    assert rmse_table.header[:2] == ("method", "×4")
+    assert rmse_table.body == (("bilinear", "3.00", "0.500"),)
+    assert "dolls" in rmse_table.note and "left out" in rmse_table.note
+    # With only tuning scenes present, they are used (and the note says so).
+    only_tune = report.summary_tables([_row("park", "dolls", 4, "bilinear", 7.0, split="tune")])[0]
+    assert only_tune.body[0][1] == "7.00" and "only tuning scenes" in only_tune.note
+
+
+def test_published_numbers_sit_beside_ours():
+    rows = [_row("park", s, 4, "thesis", v) for s, v in (("art", 3.0), ("books", 2.0), ("moebius", 1.0))]
+    (table,) = report.published_table(rows)
+    assert table.header == ("method", "art", "books", "moebius", "mean")
+    assert table.body[0] == ("TGV (Ferstl et al. 2013) [published]", "4.06", "2.21", "2.03", "2.77")
+    assert table.body[1] == ("thesis [this run]", "3.00", "2.00", "1.00", "2.00")
+    assert report.published_table([_row("lu", "RGBD_01", 4, "thesis", 1.0)]) == []
+    md = report.summary_markdown(rows, notes=["a note"], figures=[("cap", "f.png")], plot="p.png")
+    assert "4.06" in md and "- a note" in md and "](f.png)" in md and "![RMSE against scale](p.png)" in md
+
+
+def test_csv_and_terminal_table():
+    rows = [_row("lu", "RGBD_01", 8, "nearest", 2.5), _row("lu", "RGBD_01", 8, "guided", float("nan"))]
+    lines = report.csv_text(rows).splitlines()
+    assert lines[0].split(",")[:4] == ["protocol", "scene", "scale", "method"]
+    assert lines[2].split(",")[5] == "nan" and len(lines) == 3
+    text = report.terminal_table(rows)
+    assert re.search(r"nearest\s+2\.50", text) and re.search(r"guided\s+–", text)
+
+
+def test_figures_are_built_without_files():
+    gt = np.tile(np.repeat(np.array([40, 200], np.uint8), 16), (32, 1))
+    case = park_case("toy", 4, gt[1::4, 1::4].copy(), np.zeros((32, 32, 3), np.uint8), gt)
+    fig = report.scene_figure(case, {"nearest": case.depth_gt + 1, "bilinear": case.depth_gt}, rmse={"nearest": 1.0})
+    assert len(fig.axes) == 4 * 4
+    assert fig.axes[2].get_title() == "nearest\nRMSE 1.00"
+    err = report.error_map(case.depth_gt + 20, case.depth_gt)
+    assert err.shape == (32, 32, 3) and (err == err[0, 0]).all()  # saturated everywhere
+    fig = report.rmse_scale_figure([_row("lu", "a", 4, "m", 1.0), _row("lu", "a", 8, "m", 2.0)])
+    assert fig.axes[0].lines[0].get_ydata().tolist() == [1.0, 2.0]
+
+
+def _synthetic_lu_folder(root: Path, rng) -> Path:
+    """Two 96 x 128 RGB-D pairs in the lu6 layout."""
+    lu = root / "lu6"
+    (lu / "RGB").mkdir(parents=True)
+    (lu / "Depth").mkdir()
+    for i in (1, 2):
+        depth = np.full((96, 128), 60, np.uint8)
+        depth[20:70, 30 + 10 * i:90] = 180
+        rgb = np.where(depth[..., None] > 100, np.uint8(200), np.uint8(40)) + rng.integers(0, 20, (96, 128, 3))
+        Image.fromarray(rgb.astype(np.uint8)).save(lu / "RGB" / f"RGBD_0{i}_ouput_color.png")
+        Image.fromarray(depth).save(lu / "Depth" / f"RGBD_0{i}_output_depth.png")
+    return root
+
+
+def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
+    data = _synthetic_lu_folder(tmp_path / "data", rng)
+    out = tmp_path / "report"
+    status = main(["bench", "--data", str(data), "--protocol", "lu", "--methods", "nearest,bilinear,guided",
+                   "--scales", "4,8", "--report", str(out)])
+    assert status == 0, capsys.readouterr().err
+    page = out / "index.html"
+    text = page.read_text()
+    assert text.count('<table class="scores">') == 2  # the RMSE table and the all-metrics table
+    n_images = text.count("<img ")
+    assert n_images == 1 + 2  # the plot and one figure per scene (at x8)
+    if CHROMIUM is None:
+        pytest.skip("chromium is not installed (CI installs it with apt-get when it can)")
+    profile = tmp_path / "chromium-profile"
+    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+           "--disable-background-networking", "--disable-component-update", "--disable-sync",
+           f"--user-data-dir={profile}", "--virtual-time-budget=5000", "--dump-dom", page.as_uri()]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    dom = proc.stdout
+    assert proc.returncode == 0 and "<html" in dom, proc.stderr[-2000:]
+    # The browser parsed the tables and decoded every image (the page counts them on load).
+    assert dom.count('<table class="scores">') == 2
+    assert re.search(r"<td>bilinear</td><td>[0-9.]+</td><td>[0-9.]+</td>", dom)
+    loaded = re.search(r'data-images-loaded="(\d+)"', dom)
+    assert loaded and int(loaded.group(1)) == n_images, dom[:500]
+    shot = tmp_path / "page.png"
+    proc = subprocess.run([*cmd[:-2], f"--screenshot={shot}", "--window-size=1200,900", page.as_uri()],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0 and shot.is_file(), proc.stderr[-2000:]
+    pixels = np.asarray(Image.open(shot).convert("L"))
+    assert pixels.shape == (900, 1200) and pixels.std() > 5  # something was drawn
