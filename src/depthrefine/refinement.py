@@ -71,8 +71,8 @@ class Refinement:
         Median-filtered color (work grid, input dtype) (4.3.1).
     lab_unified : (Hw, Ww, 3) float32
         L*a*b* of the filtered color with L* unified per patch (before the L*
-        weight) (4.3.2). k-means clusters these with a* and b* binned at 0.5
-        units (:data:`depthrefine.segment.AB_STEP`).
+        weight) (4.3.2). k-means clusters these with a* and b* binned at
+        :data:`depthrefine.segment.AB_STEP` units.
     labels : (Hw, Ww) int16
         Cluster label of each pixel, local to its patch, ``0 .. k'-1`` (4.3.3).
     patch_index : (Hw, Ww) int32

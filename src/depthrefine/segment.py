@@ -246,10 +246,11 @@ def _assign(cols: np.ndarray, means: np.ndarray) -> np.ndarray:
 
 
 #: k-means runs over the histogram of distinct features, with a* and b*
-#: binned at this step (L* units); every pixel of a bin takes its bin's
-#: center, which is at most a quarter unit from its exact value.
-AB_STEP = 0.5
-_AB_BITS = 9  # 2**9 bins of AB_STEP cover a*, b* in [-128, 128)
+#: binned at this step (L*a*b* units); every pixel of a bin takes its bin's
+#: center, at most half a step from its exact value (a just-noticeable color
+#: difference is about 2.3 units). 1.0 measured against 0.5 on the Art scene:
+#: RMSE within 0.25 at x4/x8/x16, a third of the bins, 10-25 % less time.
+AB_STEP = 1.0
 
 
 def cluster_colors(
@@ -294,39 +295,43 @@ def cluster_colors(
     [[1, 1, 0, 0]]
     """
     lightness = lab_patch[..., 0]
-    half = 1 << (_AB_BITS - 1)
-    qa = np.clip(np.floor(lab_patch[..., 1] / AB_STEP + 0.5), -half, half - 1).astype(np.int32) + half
-    qb = np.clip(np.floor(lab_patch[..., 2] / AB_STEP + 0.5), -half, half - 1).astype(np.int32) + half
-    ab_code = (qa << _AB_BITS) | qb
+    # Bin a* and b* (and L* when it is not unified); codes are local to the
+    # patch's range so that the histogram stays small.
+    qa = np.floor(lab_patch[..., 1] * np.float32(1.0 / AB_STEP) + np.float32(0.5)).astype(np.int32)
+    qb = np.floor(lab_patch[..., 2] * np.float32(1.0 / AB_STEP) + np.float32(0.5)).astype(np.int32)
+    a0, b0 = int(qa.min()), int(qb.min())
+    na, nb = int(qa.max()) - a0 + 1, int(qb.max()) - b0 + 1
     if unify:
         cls = lightness_classes(lightness, black_bound=black_bound, white_bound=white_bound,
                                 max_lightness=max_lightness)
         n_cls = np.bincount(cls.ravel(), minlength=3)
         sum_l = np.bincount(cls.ravel(), weights=lightness.ravel(), minlength=3)
         class_l = np.divide(sum_l, n_cls, out=np.zeros(3), where=n_cls > 0)
-        code = (cls.astype(np.int32) << (2 * _AB_BITS)) | ab_code
-        lightness_of = lambda bins: class_l[bins >> (2 * _AB_BITS)]  # noqa: E731
+        first, n_first = cls.astype(np.int32), 3
+        lightness_of = lambda index: class_l[index]  # noqa: E731
     else:
-        ql = np.floor(lightness / AB_STEP + 0.5).astype(np.int32)
-        code = (ql << (2 * _AB_BITS)) | ab_code
-        lightness_of = lambda bins: (bins >> (2 * _AB_BITS)) * AB_STEP  # noqa: E731
-    space = 3 << (2 * _AB_BITS)
-    if unify and code.size * 4 >= space:
+        first = np.floor(lightness * np.float32(1.0 / AB_STEP) + np.float32(0.5)).astype(np.int32)
+        l0 = int(first.min())
+        first -= l0
+        n_first = int(first.max()) + 1
+        lightness_of = lambda index: (index + l0) * AB_STEP  # noqa: E731
+    code = (first * na + (qa - a0)) * nb + (qb - b0)
+    space = n_first * na * nb
+    if space <= 4 * code.size:
         counts = np.bincount(code.ravel(), minlength=space)
-        bins = np.flatnonzero(counts > 0)
+        bins = np.flatnonzero(counts)
         weights = counts[bins]
         inverse = None
-    else:  # small patch, or L* not unified: sort instead of a large histogram
+    else:  # a sparse histogram: sort instead
         bins, inverse, weights = np.unique(code.ravel(), return_inverse=True, return_counts=True)
-    mask = (1 << _AB_BITS) - 1
     feats = np.stack([
-        lightness_of(bins) * lightness_weight,
-        (((bins >> _AB_BITS) & mask) - half) * AB_STEP,
-        ((bins & mask) - half) * AB_STEP,
+        lightness_of(bins // (na * nb)) * lightness_weight,
+        ((bins // nb) % na + a0) * AB_STEP,
+        (bins % nb + b0) * AB_STEP,
     ], axis=1).astype(np.float32)
     bin_labels, _ = kmeans(feats, n_clusters, iterations, weights=weights)
     if inverse is None:
-        lut = np.zeros(space, dtype=np.int16)
+        lut = np.empty(space, dtype=np.int16)
         lut[bins] = bin_labels
         labels = lut[code]
     else:
