@@ -344,22 +344,27 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
 }
 
 
-@pytest.mark.parametrize("name", list(CASES))
-def test_bad_input(name, tmp_path, capsys):
-    """Exit 2, one clear line naming the culprit, nothing written, inputs untouched, same message as the library."""
-    ws = Workspace(tmp_path)
-    case = CASES[name](ws)
-    before = _snapshot(tmp_path)
+def _refused(case, command: str, folder, capsys) -> str:
+    """Run a case; check exit 2, one error line naming what it should, and nothing changed. Return the line."""
+    before = _snapshot(folder)
     code, err = _run(case.argv, capsys)
     lines = [line for line in err.splitlines() if line.strip()]
     assert code == 2, err
     assert "Traceback" not in err
     assert len(lines) == 1, err
     line = lines[0]
-    assert line.startswith("depthrefine refine: error:"), line
+    assert line.startswith(f"depthrefine {command}: error:"), line
     for part in case.expect:
         assert part in line, f"{part!r} not in {line!r}"
-    assert _snapshot(tmp_path) == before, "the inputs or the output folder changed"
+    assert _snapshot(folder) == before, "the inputs or the output folder changed"
+    return line
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_bad_input(name, tmp_path, capsys):
+    """Exit 2, one clear line naming the culprit, nothing written, inputs untouched, same message as the library."""
+    case = CASES[name](Workspace(tmp_path))
+    line = _refused(case, "refine", tmp_path, capsys)
     if case.lib is not None:
         with pytest.raises((ValueError, TypeError)) as info:
             case.lib()
@@ -809,19 +814,8 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
 @pytest.mark.parametrize("name", list(OTHER_CASES))
 def test_bad_input_other_commands(name, tmp_path, capsys):
     """The other subcommands keep the same promises: exit 2, one line, nothing written, inputs untouched."""
-    ws = Workspace(tmp_path)
-    case = OTHER_CASES[name](ws)
-    before = _snapshot(tmp_path)
-    code, err = _run(case.argv, capsys)
-    lines = [line for line in err.splitlines() if line.strip()]
-    assert code == 2, err
-    assert "Traceback" not in err
-    assert len(lines) == 1, err
-    line = lines[0]
-    assert line.startswith(f"depthrefine {case.argv[0]}: error:"), line
-    for part in case.expect:
-        assert part in line, f"{part!r} not in {line!r}"
-    assert _snapshot(tmp_path) == before, "the inputs or the output folder changed"
+    case = OTHER_CASES[name](Workspace(tmp_path))
+    line = _refused(case, case.argv[0], tmp_path, capsys)
     if case.lib is not None:
         with pytest.raises((ValueError, TypeError)) as info:
             case.lib()

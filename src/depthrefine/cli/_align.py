@@ -16,17 +16,22 @@ from . import CliError
 from ._common import add_depth_options, add_overwrite
 
 
-def add_align_options(p: argparse.ArgumentParser, *, method_flag: str) -> None:
-    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value)."""
-    p.add_argument(method_flag, dest="align_method", choices=ALIGN_METHODS, default=None,
-                   help="alignment: reproject (calibrated, any rig; default) or shift (the thesis's "
-                        "horizontal shift, parallel rigs)")
+def add_units_options(p: argparse.ArgumentParser) -> None:
+    """--depth-units / --inverse-depth-scale: how depth values become metres."""
     units = p.add_mutually_exclusive_group()
     units.add_argument("--depth-units", type=float, metavar="M",
                        help="metres per depth unit, for depth that grows with distance (0.001 for uint16 mm)")
     units.add_argument("--inverse-depth-scale", type=float, metavar="C",
                        help="for 8-bit depth intensity / disparity (larger = nearer): metres = C / value "
                             "(255 at z_min metres: C = 255 * z_min)")
+
+
+def add_align_options(p: argparse.ArgumentParser, *, method_flag: str) -> None:
+    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value)."""
+    p.add_argument(method_flag, dest="align_method", choices=ALIGN_METHODS, default=None,
+                   help="alignment: reproject (calibrated, any rig; default) or shift (the thesis's "
+                        "horizontal shift, parallel rigs)")
+    add_units_options(p)
     p.add_argument("--factor", type=int, metavar="S",
                    help="reproject: scale factor s, the output is the color grid / s (default: focal-length ratio)")
     p.add_argument("--radial", action="store_true", default=None,

@@ -18,7 +18,7 @@ from ..params import params_from_mapping
 from ..pointcloud import depth_to_points
 from ..scale import plan_scale
 from . import CliError
-from ._align import add_align_options, chain_settings
+from ._align import add_align_options, add_units_options, chain_settings
 from ._common import add_depth_options, add_overwrite, add_params_options, params_dict, progress_bar
 
 
@@ -70,10 +70,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     e.add_argument("-o", "--output", required=True, metavar="OUT", help="point cloud (.ply)")
     e.add_argument("--rig", required=True, metavar="FILE",
                    help="rig or chain settings file (its color camera), or a camera file")
-    units = e.add_mutually_exclusive_group()
-    units.add_argument("--depth-units", type=float, metavar="M", help="metres per depth unit (0.001 for mm)")
-    units.add_argument("--inverse-depth-scale", type=float, metavar="C",
-                       help="8-bit depth intensity / disparity: metres = C / value")
+    add_units_options(e)
     e.add_argument("--stride", type=int, default=1, metavar="N", help="keep every N-th row and column")
     e.add_argument("--no-undistort", action="store_true", help="COLOR and DEPTH are of the raw (distorted) image")
     add_overwrite(e)
