@@ -115,3 +115,21 @@ def test_fast_bilateral_solver_availability_matches_opencv():
         assert "EIGEN" in str(exc).upper()
         works = False
     assert available is works
+
+
+def test_fast_bilateral_solver_is_registered_exactly_when_it_works():
+    from depthrefine import METHODS, peers
+    status = peers.fast_bilateral_solver_status()
+    assert peers.fast_bilateral_solver_available() == (status == "")
+    assert ("fbs" in METHODS) == (status == "")
+    depth_lr = np.full((4, 4), 7.0, np.float32)
+    rgb = np.zeros((16, 16, 3), np.uint8)
+    if status:
+        assert "fastBilateralSolverFilter" in status and ("EIGEN" in status or "has no" in status)
+        with pytest.raises(ValueError, match="'fbs' is unavailable"):
+            peers.upsample_fbs(depth_lr, rgb)
+    else:
+        out = peers.upsample_fbs(depth_lr, rgb)
+        assert out.shape == (16, 16) and np.allclose(out, 7.0, atol=1e-3)
+    with pytest.raises(ValueError, match="lam"):
+        peers.FastBilateralSolverParams(lam=0.0)

@@ -39,10 +39,39 @@ def test_published_numbers_sit_beside_ours():
     (table,) = report.published_table(rows)
     assert table.header == ("method", "art", "books", "moebius", "mean")
     assert table.body[0] == ("TGV (Ferstl et al. 2013) [published]", "4.06", "2.21", "2.03", "2.77")
-    assert table.body[1] == ("thesis [this run]", "3.00", "2.00", "1.00", "2.00")
-    assert report.published_table([_row("lu", "RGBD_01", 4, "thesis", 1.0)]) == []
+    assert table.body[1] == ("PIL bicubic (README sanity row) [published]", "5.60", "4.37", "4.31", "4.76")
+    assert table.body[2] == ("thesis [this run]", "3.00", "2.00", "1.00", "2.00")
+    assert "noisy_ferstl_x4" in table.note and "middlebury2005_park/README.md" in table.note
+    assert report.published_table([_row("tof", "art", 4, "thesis", 1.0)]) == []
     md = report.summary_markdown(rows, notes=["a note"], figures=[("cap", "f.png")], plot="p.png")
     assert "4.06" in md and "- a note" in md and "](f.png)" in md and "![RMSE against scale](p.png)" in md
+
+
+def test_published_means_for_the_bicubic_protocols():
+    rows = [_row("middlebury30", "Middlebury_02", s, "thesis", 1.0 * s) for s in (4, 8, 16)]
+    rows += [_row("middlebury30", "Middlebury_06", s, "thesis", 3.0 * s) for s in (4, 8, 16)]
+    rows += [_row("middlebury30", "Middlebury_14", 4, "thesis", 99.0, split="tune")]
+    (table,) = report.published_table(rows)
+    assert table.header == ("method", "×4", "×8", "×16", "images")
+    body = {r[0]: r[1:] for r in table.body}
+    assert body["DCTNet [published]"] == ("1.10", "2.05", "4.19", "30")
+    assert body["Bicubic (DKN/JIIF-era tables) [published]"] == ("2.28", "3.98", "6.37", "30")
+    assert body["PIL bicubic (README sanity row) [published]"][:3] == ("2.21", "3.85", "6.14")
+    assert body["thesis [this run]"] == ("8.00", "16.00", "32.00", "2")
+    lu = report.published_table([_row("lu", "RGBD_01", 4, "thesis", 1.0)])[0]
+    assert {r[0]: r[1:] for r in lu.body}["DCTNet [published]"] == ("0.88", "1.85", "4.39", "6")
+
+
+def test_means_over_fewer_scenes_are_marked_and_left_out_scenes_named():
+    rows = [_row("middlebury30", "Middlebury_02", 4, "thesis", 2.0), _row("middlebury30", "Middlebury_06", 4, "thesis", 4.0),
+            _row("middlebury30", "Middlebury_02", 4, "guided", 1.0),
+            _row("middlebury30", "Middlebury_06", 4, "guided", float("nan")),
+            _row("middlebury30", "Middlebury_14", 4, "guided", 50.0, split="tune")]
+    rmse_table, metrics_table = report.summary_tables(rows)[:2]
+    assert rmse_table.body[0][1] == "3.00" and rmse_table.body[1][1] == "1.00 (n=1)"
+    assert "guided ×4" in rmse_table.note and "n=k" in rmse_table.note
+    assert "Middlebury_14 (Dolls" in rmse_table.note and "left out" in rmse_table.note
+    assert metrics_table.body[1][2] == "1.00 (n=1)"
 
 
 def test_csv_and_terminal_table():
@@ -88,7 +117,7 @@ def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
     assert status == 0, capsys.readouterr().err
     page = out / "index.html"
     text = page.read_text()
-    assert text.count('<table class="scores">') == 2  # the RMSE table and the all-metrics table
+    assert text.count('<table class="scores">') == 3  # the RMSE table, the all-metrics table, the published means
     n_images = text.count("<img ")
     assert n_images == 1 + 2  # the plot and one figure per scene (at x8)
     if CHROMIUM is None:
@@ -101,7 +130,7 @@ def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
     dom = proc.stdout
     assert proc.returncode == 0 and "<html" in dom, proc.stderr[-2000:]
     # The browser parsed the tables and decoded every image (the page counts them on load).
-    assert dom.count('<table class="scores">') == 2
+    assert dom.count('<table class="scores">') == 3
     assert re.search(r"<td>bilinear</td><td>[0-9.]+</td><td>[0-9.]+</td>", dom)
     loaded = re.search(r'data-images-loaded="(\d+)"', dom)
     assert loaded and int(loaded.group(1)) == n_images, dom[:500]

@@ -21,8 +21,10 @@ READMEs say how each is scored):
     truth and color, scored like ``park``.
 
 The scenes in :data:`TUNING_SCENES` are the ones the peers' parameters were
-tuned on (``tof`` shares the Park scenes, so it leaves out the same ones);
-their rows are marked ``split="tune"`` and the summaries leave them out.
+tuned on, and the same scenes seen under another protocol (``tof`` shares the
+Park scenes; Park's Dolls and Laundry are ``Middlebury_14`` and ``_18`` of the
+30-image set); their rows are marked ``split="tune"`` and the summaries leave
+them out, saying why (:func:`left_out_reason`).
 
 This module is pure apart from the ``progress`` callback; the files are
 read by :mod:`depthrefine.io` (``load_cases``).
@@ -47,6 +49,9 @@ __all__ = [
     "PROTOCOLS",
     "DEFAULT_SCALES",
     "TUNING_SCENES",
+    "LEFT_OUT_WHY",
+    "left_out_reason",
+    "tuned_on_scenes",
     "LU_BORDER",
     "BenchCase",
     "BenchRow",
@@ -61,18 +66,57 @@ __all__ = [
     "tof_seed",
     "run_benchmark",
     "parse_scales",
+    "mean_or_nan",
+    "mean_and_count",
 ]
 
 #: Protocol names, in report order.
 PROTOCOLS = ("park", "middlebury30", "lu", "tof")
 #: The scale factors of the published tables.
 DEFAULT_SCALES = (4, 8, 16)
-#: Scenes the peers were tuned on, per protocol (rows marked ``split="tune"``).
+#: Scenes left out of every mean, per protocol (rows marked ``split="tune"``):
+#: the scenes the peers were tuned on, and the same scenes under another
+#: protocol (:data:`LEFT_OUT_WHY` says why each one is left out).
 TUNING_SCENES: dict[str, tuple[str, ...]] = {
     "park": ("dolls", "laundry"),
     "tof": ("dolls", "laundry"),
-    "middlebury30": ("Middlebury_03", "Middlebury_10", "Middlebury_19", "Middlebury_25"),
+    "middlebury30": ("Middlebury_03", "Middlebury_10", "Middlebury_14", "Middlebury_18", "Middlebury_19",
+                     "Middlebury_25"),
 }
+#: Why a scene of :data:`TUNING_SCENES` is left out, ``{(protocol, scene): reason}``.
+#: Scenes not listed here were tuned on directly.
+LEFT_OUT_WHY: dict[tuple[str, str], str] = {
+    ("tof", "dolls"): "Park's Dolls, a tuning scene",
+    ("tof", "laundry"): "Park's Laundry, a tuning scene",
+    ("middlebury30", "Middlebury_14"): "Dolls (middlebury_lu30 README), a Park tuning scene",
+    ("middlebury30", "Middlebury_18"): "Laundry (middlebury_lu30 README), a Park tuning scene",
+}
+
+
+def left_out_reason(protocol: str, scene: str) -> str:
+    """Why ``scene`` is left out of ``protocol``'s means ("" if it is not).
+
+    Examples
+    --------
+    >>> left_out_reason("middlebury30", "Middlebury_14")
+    'Dolls (middlebury_lu30 README), a Park tuning scene'
+    >>> left_out_reason("park", "dolls"), left_out_reason("park", "art")
+    ('tuned on', '')
+    """
+    if scene not in TUNING_SCENES.get(protocol, ()):
+        return ""
+    return LEFT_OUT_WHY.get((protocol, scene), "tuned on")
+
+
+def tuned_on_scenes(protocol: str) -> tuple[str, ...]:
+    """The scenes of ``protocol`` the peers' parameters were tuned on (not those left out as duplicates).
+
+    Examples
+    --------
+    >>> tuned_on_scenes("middlebury30")
+    ('Middlebury_03', 'Middlebury_10', 'Middlebury_19', 'Middlebury_25')
+    """
+    return tuple(s for s in TUNING_SCENES.get(protocol, ()) if (protocol, s) not in LEFT_OUT_WHY)
 #: Border crop of the middlebury30 / lu protocols, pixels.
 LU_BORDER = 6
 #: The metric columns of a row, in report order.
@@ -347,13 +391,24 @@ def run_benchmark(
     return result
 
 
+def mean_and_count(values: Iterable[float]) -> tuple[float, int]:
+    """Mean of the finite values (NaN if none) and how many there were.
+
+    Examples
+    --------
+    >>> mean_and_count([1.0, float("nan"), 3.0])
+    (2.0, 2)
+    """
+    vals = [v for v in values if isinstance(v, (int, float)) and math.isfinite(v)]
+    return (sum(vals) / len(vals) if vals else float("nan")), len(vals)
+
+
 def mean_or_nan(values: Iterable[float]) -> float:
-    """Mean of the finite values (NaN if none).
+    """Mean of the finite values (NaN if none); :func:`mean_and_count` also says over how many.
 
     Examples
     --------
     >>> mean_or_nan([1.0, float("nan"), 3.0])
     2.0
     """
-    vals = [v for v in values if isinstance(v, (int, float)) and math.isfinite(v)]
-    return sum(vals) / len(vals) if vals else float("nan")
+    return mean_and_count(values)[0]

@@ -175,3 +175,6 @@ register_method("fgs", peers.upsample_fgs, params_type=peers.FastGlobalSmootherP
                 summary="bilinear, then OpenCV fast global smoother (weighted least squares, Min 2014)")
 register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParams,
                 summary="bilinear, then OpenCV weighted median filter (Zhang 2014)")
+if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen have a working solver
+    register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
+                    summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")

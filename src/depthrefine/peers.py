@@ -25,9 +25,12 @@ tuned by ``benchmarks/tune_peers.py`` on the benchmark's tuning scenes
 30-image Middlebury set, at x4, x8 and x16; grid and results in
 ``docs/bench.md``).
 
-The fast bilateral solver (``cv2.ximgproc.fastBilateralSolverFilter``) is not
-here: OpenCV builds it only with Eigen, and the PyPI wheels have no Eigen, so
-the call raises "needs to be compiled with EIGEN".
+The fast bilateral solver (``fbs``, ``cv2.ximgproc.fastBilateralSolverFilter``,
+Barron and Poole 2016) is registered only when the installed OpenCV has a
+working one (:func:`fast_bilateral_solver_available`): the function exists in
+the contrib wheels, but OpenCV builds its body only with Eigen, and the PyPI
+wheels have no Eigen, so there the call raises "needs to be compiled with
+EIGEN" (:func:`fast_bilateral_solver_status` says which case holds).
 
 References
 ----------
@@ -59,7 +62,10 @@ __all__ = [
     "upsample_guided",
     "upsample_fgs",
     "upsample_wmf",
+    "FastBilateralSolverParams",
+    "upsample_fbs",
     "fast_bilateral_solver_available",
+    "fast_bilateral_solver_status",
 ]
 
 Progress = Callable[[int, int], None]
@@ -286,21 +292,85 @@ def upsample_wmf(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: WeightedMe
     return out.astype(np.float32, copy=False)
 
 
+@dataclass(frozen=True)
+class FastBilateralSolverParams:
+    """Fast bilateral solver parameters (OpenCV's defaults; not tuned: no build here has the solver).
+
+    Attributes
+    ----------
+    sigma_spatial_lr : float
+        Spatial bandwidth, low-resolution pixels.
+    sigma_luma, sigma_chroma : float
+        Luma and chroma bandwidths, 8-bit guide units.
+    lam : float
+        Smoothness weight (OpenCV's ``lambda``).
+    num_iter : int
+        Conjugate-gradient iterations.
+    """
+
+    sigma_spatial_lr: float = 2.0
+    sigma_luma: float = 8.0
+    sigma_chroma: float = 8.0
+    lam: float = 128.0
+    num_iter: int = 25
+
+    def __post_init__(self) -> None:
+        _check_positive(self, "sigma_spatial_lr", "sigma_luma", "sigma_chroma", "lam", "num_iter")
+
+
+def upsample_fbs(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: FastBilateralSolverParams | None = None,
+                 progress: Progress | None = None) -> np.ndarray:
+    """Bilinear enlargement, then the fast bilateral solver guided by the color image.
+
+    Parameters and returns as :func:`upsample_jbf` (params:
+    :class:`FastBilateralSolverParams`).
+
+    Raises
+    ------
+    ValueError
+        The installed OpenCV has no working solver (the message says why).
+    """
+    reason = fast_bilateral_solver_status()
+    if reason:
+        raise ValueError(f"method 'fbs' is unavailable: {reason}")
+    params, rgb, start, s = _prepare(depth_lr, rgb_hr, params, FastBilateralSolverParams)
+    confidence = np.ones(start.shape, np.float32)
+    out = cv2.ximgproc.fastBilateralSolverFilter(
+        _guide8(rgb), start.astype(np.float32), confidence, params.sigma_spatial_lr * s, params.sigma_luma,
+        params.sigma_chroma, params.lam, int(params.num_iter))
+    _done(progress)
+    return out.astype(np.float32, copy=False)
+
+
+def fast_bilateral_solver_status() -> str:
+    """Why the fast bilateral solver cannot run here, or ``""`` when it can.
+
+    Examples
+    --------
+    >>> isinstance(fast_bilateral_solver_status(), str)
+    True
+    """
+    fbs = getattr(getattr(cv2, "ximgproc", None), "fastBilateralSolverFilter", None)
+    if fbs is None:
+        return (f"the installed OpenCV {cv2.__version__} has no cv2.ximgproc.fastBilateralSolverFilter "
+                "(install opencv-contrib-python-headless).")
+    guide = np.zeros((4, 4, 3), np.uint8)
+    try:
+        fbs(guide, np.ones((4, 4), np.float32), np.ones((4, 4), np.float32))
+    except cv2.error as exc:
+        if "EIGEN" in str(exc).upper():
+            return (f"cv2.ximgproc.fastBilateralSolverFilter exists in the installed OpenCV {cv2.__version__}, "
+                    "but this build has no Eigen, so the call raises 'needs to be compiled with EIGEN'.")
+        return f"cv2.ximgproc.fastBilateralSolverFilter failed on a 4x4 test image: {str(exc).strip()}"
+    return ""
+
+
 def fast_bilateral_solver_available() -> bool:
     """Whether the installed OpenCV has a working ``fastBilateralSolverFilter`` (needs Eigen).
 
     Examples
     --------
-    >>> isinstance(fast_bilateral_solver_available(), bool)
+    >>> fast_bilateral_solver_available() == (fast_bilateral_solver_status() == "")
     True
     """
-    fbs = getattr(getattr(cv2, "ximgproc", None), "fastBilateralSolverFilter", None)
-    if fbs is None:
-        return False
-    guide = np.zeros((4, 4, 3), np.uint8)
-    src = np.ones((4, 4), np.float32)
-    try:
-        fbs(guide, src, np.ones((4, 4), np.float32))
-    except cv2.error:
-        return False
-    return True
+    return fast_bilateral_solver_status() == ""
