@@ -29,6 +29,7 @@ from depthrefine.align import (
     distort_image,
     reproject_camera,
     shift_from_rig,
+    shift_misregistration,
     undistort_depth,
     undistort_image,
 )
@@ -197,6 +198,16 @@ def test_shift_background_default_is_the_mean_of_the_farther_half():
     assert align_shift(step, slope=0.01).tolist() == [[20, 20, 200, 200, 200, 200]]
 
 
+def test_shift_background_default_is_not_decided_by_one_outlier():
+    """Ties at the median: the farther half by rank, not the values strictly beyond the median."""
+    intensity = np.array([[5] + [40] * 7 + [200] * 4], np.uint8)  # 12 values, the farther 6: 5 and five 40s
+    assert background_depth(intensity) == pytest.approx((5 + 5 * 40) / 6)
+    distance = np.array([[7000] + [2000] * 7 + [1000] * 4], np.uint16)
+    assert background_depth(distance, encoding="distance") == pytest.approx((7000 + 5 * 2000) / 6)
+    assert background_depth(np.array([[42.0]])) == 42.0  # one value: itself
+    assert background_depth(np.array([[np.nan, 30.0, 0.0, 10.0]]), encoding="distance") == 30.0  # invalid ignored
+
+
 def test_shift_on_a_parallel_rig_matches_the_color_view():
     """Parallel cameras 8 cm apart, 8-bit depth intensity d = 204 / Z; the slope comes from the rig."""
     f, b, c = 80.0, 0.08, 204.0
@@ -219,6 +230,65 @@ def test_shift_on_a_parallel_rig_matches_the_color_view():
     model_mm = shift_from_rig(rig, depth_units=0.001)
     out_mm = align_shift(z_d * 1000, slope=model_mm.slope, background=Z_BACK * 1000, encoding="distance")
     assert np.array_equal(np.isclose(out_mm, z_c * 1000), np.isclose(out, truth))
+    # the check agrees: the background lands where it was; with the uncropped color image it would not
+    assert shift_misregistration(rig, (72, 96), (72, 96), Z_BACK) == pytest.approx(0.0, abs=1e-9)
+    uncropped = StereoRig(depth_cam, CameraModel(K_d, np.zeros(5), (96, 72)), np.eye(3), rig.t)
+    assert shift_misregistration(uncropped, (72, 96), (72, 96), Z_BACK) == pytest.approx(f * b / Z_BACK)
+    assert shift_misregistration(uncropped, (72, 96), (72, 96)) == pytest.approx(0.0, abs=1e-9)  # at infinity
+
+
+def _shift_rig(b: float = 0.06, size: tuple[int, int] = (672, 504)) -> StereoRig:
+    """DEPTH_CAM and a parallel color camera of ``size`` (width, height) whose image shows the depth camera's
+    view at the background (the depth intrinsics stretched, the principal point moved by f * b / Z_BACK as a
+    crop would)."""
+    K_d = DEPTH_CAM.K
+    sx, sy = size[0] / 96, size[1] / 72
+    K_c = np.array([[sx * K_d[0, 0], 0, (K_d[0, 2] + 0.5) * sx - 0.5 + sx * K_d[0, 0] * b / Z_BACK],
+                    [0, sy * K_d[1, 1], (K_d[1, 2] + 0.5) * sy - 0.5], [0, 0, 1]])
+    return StereoRig(DEPTH_CAM, CameraModel(K_c, np.zeros(5), size), np.eye(3), np.array([-b, 0, 0]))
+
+
+def test_shift_misregistration_measures_the_rig():
+    # the test rig: turned 1.8 degrees, other focal lengths and principal point: several depth pixels off
+    assert shift_misregistration(RIG, (72, 96), (504, 672), Z_BACK) > 2.0
+    assert shift_misregistration(_shift_rig(), (72, 96), (504, 672), Z_BACK) < 0.01
+    # a rotation of theta moves the background by f * theta depth pixels at the centre, (1 + x**2) times
+    # that at the edges (x = 0.64 at the corners here)
+    theta = np.radians(1.0)
+    turned = StereoRig(DEPTH_CAM, DEPTH_CAM, cv2.Rodrigues(np.array([0.0, theta, 0.0]))[0], np.zeros(3))
+    assert 1.4 * 75.0 * theta < shift_misregistration(turned, (72, 96), (72, 96)) < 1.5 * 75.0 * theta
+    behind = StereoRig(DEPTH_CAM, DEPTH_CAM, cv2.Rodrigues(np.array([0.0, np.pi, 0.0]))[0], np.zeros(3))
+    assert shift_misregistration(behind, (72, 96), (72, 96)) == np.inf
+    with pytest.raises(ValueError, match="z_background must be > 0"):
+        shift_misregistration(RIG, (72, 96), (504, 672), -1.0)
+
+
+def test_chain_shift_on_a_rig_that_fits_matches_the_color_view():
+    """The whole shift chain (undistort, d_bg, k from the rig) on a parallel rig whose color image shows the
+    depth camera's view: edges within 1 depth pixel of the depth rendered on the color grid / 7."""
+    rig = _shift_rig()
+    out, notes = align_depth(_raw_depth_mm(), rig, settings=AlignSettings(method="shift", depth_units=0.001))
+    assert "shifted" in notes[-1] and "d_bg = 2000" in notes[-1]
+    truth, front = render_depth(rig.color_camera.resized((72, 96)), np.eye(3), rig.t, distorted=False)
+    valid = np.isfinite(out)
+    assert valid[~border_zone(out.shape, 3)].all()
+    wrong = valid & (np.abs(out / 1000 - truth) > 0.01 * truth)
+    assert not (wrong & ~edge_zone(front, 1)).any()
+    assert wrong.sum() < 0.1 * front.sum()
+
+
+def test_chain_shift_refuses_a_rig_whose_color_view_differs():
+    """Before the check, the test rig's shift silently put the rectangle ~3.5 depth pixels off (1a)."""
+    settings = AlignSettings(method="shift", depth_units=0.001)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # 1.8 degrees: shift_from_rig does not warn, the check refuses
+        with pytest.raises(ValueError, match=r"misplace the depth by \d+\.\d depth pixels.*reproject.*crop"):
+            align_depth(_raw_depth_mm(), RIG, settings=settings)
+        with pytest.raises(ValueError, match="checked at the background, 2 m"):
+            align_pair(_raw_depth_mm(), np.zeros((504, 672, 3), np.uint8), RIG, settings=settings)
+    # without units (a slope given) the check looks at infinity, where the background plane of _shift_rig moves
+    with pytest.raises(ValueError, match="infinity"):
+        align_depth(_raw_depth_mm(), _shift_rig(), settings=AlignSettings(method="shift", slope=2.25))
 
 
 def test_shift_from_a_rotated_rig_warns():
@@ -351,9 +421,7 @@ def test_align_pair_reproject_and_shift():
     assert pair.depth_lr.shape == (72, 96) and pair.rgb_hr.shape == (504, 672, 3)
     assert not pair.camera.has_distortion and pair.method == "reproject"
     assert any("undistorted" in n for n in pair.notes)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AlignmentWarning)
-        depth_lr, notes = align_depth(depth, RIG, settings=AlignSettings(method="shift", depth_units=0.001))
+    depth_lr, notes = align_depth(depth, _shift_rig(), settings=AlignSettings(method="shift", depth_units=0.001))
     assert depth_lr.shape == (72, 96) and "shifted" in notes[-1]
     with pytest.raises(ValueError, match="needs the depth's units"):
         align_depth(depth, RIG)
@@ -363,3 +431,26 @@ def test_align_pair_reproject_and_shift():
         align_pair(depth, np.zeros((10, 10, 3), np.uint8), RIG, settings=AlignSettings(depth_units=0.001))
     with pytest.raises(ValueError, match="method must be one of"):
         AlignSettings(method="warp")
+
+
+def test_chain_without_undistortion_takes_both_images_as_undistorted():
+    """undistort_depth / undistort_color false: the images are already undistorted (2a), so the depth is
+    rendered for the undistorted color camera, not for a raw one."""
+    color = CameraModel(COLOR_CAM.K, np.array([-0.3, 0.1, 0, 0, 0]), COLOR_CAM.image_size)
+    rig = StereoRig(DEPTH_CAM, color, RIG_R, RIG_T)
+    z, _ = render_depth(DEPTH_CAM, distorted=False)
+    depth = np.floor(z * 1000 + 0.5).astype(np.uint16)
+    settings = AlignSettings(depth_units=0.001, undistort_depth=False, undistort_color=False)
+    rgb = np.arange(504 * 672 * 3, dtype=np.uint32).reshape(504, 672, 3).astype(np.uint8)
+    pair = align_pair(depth, rgb, rig, settings=settings)
+    expected = align_reproject(depth, rig, depth_units=0.001, depth_distorted=False, color_distorted=False)
+    assert np.array_equal(pair.depth_lr, expected, equal_nan=True)
+    assert not np.array_equal(expected, align_reproject(depth, rig, depth_units=0.001, depth_distorted=False,
+                                                        color_distorted=True), equal_nan=True)
+    assert np.array_equal(pair.rgb_hr, rgb) and not pair.camera.has_distortion  # not resampled
+    assert "color image taken as already undistorted" in pair.notes
+    _, grid = reproject_camera(rig)
+    truth, front = render_depth(grid, RIG_R, RIG_T, distorted=False)
+    valid = np.isfinite(pair.depth_lr)
+    good = valid & (np.abs(pair.depth_lr / 1000 - truth) < 0.01 * truth)
+    assert (good | edge_zone(front, 1))[valid].all() and valid.mean() > 0.95

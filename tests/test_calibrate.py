@@ -240,6 +240,10 @@ def test_camera_model_round_trip_and_checks():
         CameraModel(DEPTH_K, np.zeros(3), DEPTH_SIZE)
     with pytest.raises(ValueError, match="image_size"):
         CameraModel(DEPTH_K, np.zeros(5), (240,))
+    skewed = DEPTH_K.copy()
+    skewed[0, 1] = 0.5  # OpenCV's projectPoints / undistortPoints would ignore it
+    with pytest.raises(ValueError, match=r"skew K\[0\]\[1\] = 0.5.*set it to 0"):
+        CameraModel(skewed, np.zeros(5), DEPTH_SIZE)
 
 
 def test_resized_camera_projects_to_resized_pixels():

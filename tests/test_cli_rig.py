@@ -16,9 +16,10 @@ import cv2
 import numpy as np
 import pytest
 
+from depthrefine.align import align_reproject, undistort_image
 from depthrefine.cli import main
-from depthrefine.io import read_depth, read_ply, read_rig, write_rig
-from test_align import COLOR_CAM, DEPTH_CAM, RIG, RIG_R, RIG_T, edge_zone, render_depth
+from depthrefine.io import read_camera, read_depth, read_ply, read_rgb, read_rig, write_rig
+from test_align import COLOR_CAM, DEPTH_CAM, RIG, RIG_R, RIG_T, _shift_rig, edge_zone, render_depth
 from test_calibrate import COLOR_K, DEPTH_K, RIG_T as BOARD_RIG_T, color_views, depth_views
 
 SQUARE_ARG = "30mm"
@@ -87,11 +88,22 @@ def test_calibrate_writes_the_camera_and_reports_skipped_images(tmp_path, capsys
 
 def test_calibrate_with_too_few_boards_fails_cleanly(tmp_path, capsys):
     paths = _write_images(tmp_path / "ir", depth_views()[:2], "ir")
+    blank = tmp_path / "ir" / "blank.png"
+    cv2.imwrite(str(blank), np.full((180, 240), 128, np.uint8))
     out = tmp_path / "camera.json"
-    assert main(["calibrate", *paths, "--board", "8x6", "--square", "30mm", "-o", str(out)]) == 2
+    assert main(["calibrate", *paths, str(blank), "--board", "8x6", "--square", "30mm", "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "found in 2 of 2 images; calibration needs at least 3" in err and "Traceback" not in err
+    assert "found in 2 of 3 images; calibration needs at least 3" in err and "Traceback" not in err
+    assert f"board not found in {blank}." in err and len(err.strip().splitlines()) == 1  # names it, one line
     assert not out.exists()
+    # calibrate-stereo names the images of the pairs it could not use
+    color = _write_images(tmp_path / "rgb", color_views()[:3], "rgb")
+    stereo = ["calibrate-stereo", "--depth-images", *paths, str(blank), "--color-images", *color,
+              "--board", "8x6", "--square", "30mm", "-o", str(out)]
+    assert main(stereo) == 2
+    err = capsys.readouterr().err
+    assert "found in both images of 2 of 3 pairs" in err and f"board not found in {blank}" in err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()
     assert main(["calibrate", *paths, "--board", "8", "--square", "30mm", "-o", str(out)]) == 2
     assert "COLSxROWS" in capsys.readouterr().err
 
@@ -142,11 +154,35 @@ def test_align_reproject_and_shift(captures, tmp_path, capsys):
     assert main(base + ["-o", str(out), "--depth-units", "0.001"]) == 0, capsys.readouterr().err
     aligned = read_depth(out)
     assert aligned.dtype == np.uint16 and aligned.shape == (72, 96)  # the 672 x 504 color grid / 7
-    assert "reprojected" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "reprojected" in err
+    # the color lens has distortion: the note says the output lines up with the undistorted color image
+    assert "aligned to the undistorted color image" in err
+    assert f"depthrefine undistort COLOR --camera {captures['rig']} --color --intensity" in err
+    # the shift on this rig (turned 1.8 degrees, other intrinsics) would misplace the depth: refused
     out_shift = tmp_path / "shift.png"
-    assert main(base + ["-o", str(out_shift), "--method", "shift", "--depth-units", "0.001"]) == 0
-    assert "shifted" in capsys.readouterr().err
+    assert main(base + ["-o", str(out_shift), "--method", "shift", "--depth-units", "0.001"]) == 2
+    err = capsys.readouterr().err
+    assert "misplace the depth" in err and "--method reproject" in err and "Traceback" not in err
+    assert not out_shift.exists()
+    # on a parallel rig whose color image shows the depth camera's view it runs
+    rig_file = tmp_path / "parallel.json"
+    write_rig(rig_file, _shift_rig())
+    assert main(["align", str(captures["depth"]), "--rig", str(rig_file), "-o", str(out_shift),
+                 "--method", "shift", "--depth-units", "0.001"]) == 0
+    err = capsys.readouterr().err
+    assert "shifted" in err and "undistorted color image" not in err  # that color lens has no distortion
     assert read_depth(out_shift).shape == (72, 96)
+    # --no-undistort: both images already undistorted, the depth aligned to the undistorted color camera
+    z, _ = render_depth(DEPTH_CAM, distorted=False)
+    undistorted = tmp_path / "depth_undistorted.png"
+    cv2.imwrite(str(undistorted), np.floor(z * 1000 + 0.5).astype(np.uint16))
+    out_nu = tmp_path / "no_undistort.png"
+    assert main(["align", str(undistorted), "--rig", str(captures["rig"]), "-o", str(out_nu), "--depth-units",
+                 "0.001", "--no-undistort"]) == 0
+    assert "undistorted color image" not in capsys.readouterr().err
+    expected = align_reproject(read_depth(undistorted), RIG, depth_units=0.001, depth_distorted=False)
+    assert np.array_equal(read_depth(out_nu), np.nan_to_num(np.floor(expected + 0.5)).astype(np.uint16))
     # the settings file's [align] gives the units
     out_file = tmp_path / "from_settings.png"
     assert main(["align", str(captures["depth"]), "--rig", str(captures["settings"]), "-o", str(out_file)]) == 0
@@ -196,13 +232,31 @@ def test_run_on_raw_captures_matches_the_color_view(captures, tmp_path, capsys):
 def test_run_with_the_thesis_shift_and_options(captures, tmp_path, capsys):
     out = tmp_path / "refined.tif"
     aligned = tmp_path / "aligned.png"
+    # the captures' rig does not fit the shift (before: exit 0 and the rectangle 3.5 depth pixels off)
     code = main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
+                 "--align", "shift", "--depth-units", "0.001", "--method", "nearest", "-o", str(out),
+                 "--save-aligned", str(aligned)])
+    err = capsys.readouterr().err
+    assert code == 2 and "misplace the depth" in err and "--align reproject" in err
+    assert not out.exists() and not aligned.exists()
+    # a parallel rig whose color image shows the depth camera's view: the shift puts the depth in place
+    rig = _shift_rig()
+    rig_file = tmp_path / "parallel.json"
+    write_rig(rig_file, rig)
+    truth, front = render_depth(rig.color_camera, np.eye(3), rig.t, distorted=False)
+    color = tmp_path / "color_parallel.png"
+    cv2.imwrite(str(color), np.where(front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2))
+    code = main(["run", str(captures["depth"]), str(color), "--rig", str(rig_file),
                  "--align", "shift", "--depth-units", "0.001", "--method", "nearest", "-o", str(out),
                  "--save-aligned", str(aligned)])
     err = capsys.readouterr().err
     assert code == 0, err
     assert "shifted" in err
-    assert read_depth(out).shape == (504, 672) and read_depth(aligned).shape == (72, 96)
+    refined = read_depth(out).astype(np.float64)
+    assert refined.shape == (504, 672) and read_depth(aligned).shape == (72, 96)
+    close = np.abs(refined - truth * 1000) < 0.01 * truth * 1000
+    assert close[~edge_zone(front, 7) & (refined > 0)].mean() > 0.99
+    assert not ((refined < 1500) != front)[~edge_zone(front, 7) & (refined > 0)].any()  # edges within 1 depth px
 
 
 def test_run_errors_leave_no_output(captures, tmp_path, capsys):
@@ -248,13 +302,34 @@ def test_export_ply(captures, tmp_path, capsys):
     assert "units are unknown" in capsys.readouterr().err
 
 
+def test_export_ply_no_undistort_takes_color_as_already_undistorted(captures, tmp_path, capsys):
+    """--no-undistort means the same as in align and run: COLOR is already undistorted."""
+    truth, _ = _truth_mm()
+    depth = tmp_path / "depth_color_grid.png"
+    cv2.imwrite(str(depth), np.floor(truth + 0.5).astype(np.uint16))
+    camera = read_camera(captures["rig"], which="color")
+    assert camera.has_distortion
+    color_und = tmp_path / "color_undistorted.png"
+    cv2.imwrite(str(color_und), cv2.cvtColor(undistort_image(read_rgb(captures["color"]), camera), cv2.COLOR_RGB2BGR))
+    default, given = tmp_path / "a.ply", tmp_path / "b.ply"
+    args = ["--rig", str(captures["settings"]), "--stride", "4"]
+    assert main(["export-ply", str(depth), str(captures["color"]), "-o", str(default)] + args) == 0
+    assert main(["export-ply", str(depth), str(color_und), "-o", str(given), "--no-undistort"] + args) == 0
+    (p_default, c_default), (p_given, c_given) = read_ply(default), read_ply(given)
+    np.testing.assert_array_equal(p_default, p_given)
+    np.testing.assert_array_equal(c_default, c_given)
+    # --distorted-grid back-projects through the lens model instead: other points
+    raw = tmp_path / "c.ply"
+    assert main(["export-ply", str(depth), str(captures["color"]), "-o", str(raw), "--distorted-grid"] + args) == 0
+    assert not np.array_equal(read_ply(raw)[0], p_default)
+
+
 def test_run_with_a_non_integer_ratio_applies_the_scale_step(captures, tmp_path, capsys):
     """Thesis 3.2.2: color 7.4 times the depth -> depth x7, color x0.95 (bilinear), result back to the color size."""
-    color_cam = COLOR_CAM.without_distortion().resized((533, 710))  # 72 x 96 depth pixels * 7.4
+    rig = _shift_rig(size=(710, 533))  # 72 x 96 depth pixels * 7.4, parallel: the shift applies
     rig_file = tmp_path / "rig74.json"
-    rig = type(RIG)(DEPTH_CAM, color_cam, RIG_R, RIG_T)
     write_rig(rig_file, rig)
-    _, front = render_depth(color_cam, RIG_R, RIG_T, distorted=False)
+    _, front = render_depth(rig.color_camera, np.eye(3), rig.t, distorted=False)
     color = tmp_path / "color74.png"
     cv2.imwrite(str(color), np.where(front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2))
     out = tmp_path / "refined.png"

@@ -16,11 +16,20 @@ pixel ``(i*s + s//2, j*s + s//2)``:
     on the color image's grid after the scale step, which ``refine`` applies.
 
     **Decision (grid):** the shift is done on the low-resolution grid, each
-    pixel landing on ``col + round(shift)`` with a fractional ``shift``. This
-    is what shifting the ``s``-times enlarged map by ``s * shift`` pixels and
-    reading it back at the depth-pixel centres the refinement uses gives (up
-    to ties), at ``1/s**2`` of the cost; ``k`` is therefore in depth pixels
-    per depth unit and does not depend on ``s``.
+    pixel landing on ``col + round(shift)`` with a fractional ``shift``, at
+    ``1/s**2`` of the cost of shifting the ``s``-times enlarged map; ``k`` is
+    therefore in depth pixels per depth unit and does not depend on ``s``.
+    It is close to, not the same as, shifting the enlarged map by
+    ``s * shift`` and reading it back at the depth-pixel centres: where the
+    two round differently, a hole left by a moved pixel can take the
+    foreground that moved in instead of the background (a one-pixel
+    difference at depth edges).
+
+    The shift assumes the color image shows the depth camera's field of
+    view: the background (``d_bg``) must land where the depth grid stretched
+    over the color image puts it. :func:`shift_misregistration` measures how
+    far it does not (different focal lengths, principal points, a rotation);
+    :func:`align_depth` refuses the shift beyond one depth pixel.
 
 ``reproject`` (beyond the thesis, for calibrated rigs that need not be parallel)
     Back-project each depth pixel with the depth camera's intrinsics (undoing
@@ -73,6 +82,8 @@ __all__ = [
     "align_shift",
     "ShiftModel",
     "shift_from_rig",
+    "shift_misregistration",
+    "MAX_SHIFT_MISREGISTRATION",
     "reproject_camera",
     "align_reproject",
     "AlignSettings",
@@ -89,6 +100,9 @@ ENCODINGS = ("inverse", "distance")
 
 #: A rig rotated more than this (degrees) is not the parallel rig the shift assumes.
 MAX_PARALLEL_ROTATION = 2.0
+#: The chain refuses the shift alignment when the background lands farther than this (depth pixels)
+#: from where the stretched depth grid puts it (see :func:`shift_misregistration`).
+MAX_SHIFT_MISREGISTRATION = 1.0
 
 
 class AlignmentWarning(UserWarning):
@@ -122,7 +136,7 @@ def distort_maps(camera: CameraModel) -> tuple[np.ndarray, np.ndarray]:
     """
     rays = pixel_rays(camera, distorted=True)
     K = camera.K
-    map_x = K[0, 0] * rays[..., 0] + K[0, 1] * rays[..., 1] + K[0, 2]
+    map_x = K[0, 0] * rays[..., 0] + K[0, 2]  # CameraModel has no skew
     map_y = K[1, 1] * rays[..., 1] + K[1, 2]
     return map_x.astype(np.float32), map_y.astype(np.float32)
 
@@ -222,9 +236,12 @@ def _check_number(name: str, value: Any, *, positive: bool = False, nonnegative:
 def background_depth(depth: np.ndarray, *, encoding: str = "inverse") -> float:
     """The background depth ``d_bg``: the mean of the farther half of the valid depths.
 
-    The farther half is below the median for ``encoding="inverse"`` (depth
-    intensity, larger = nearer) and above it for ``"distance"`` [spec step 3
-    decision]. A constant map is its own background.
+    The farther half is taken by rank: the ``n // 2`` farthest of the ``n``
+    valid values (at least one), i.e. the smallest for ``encoding="inverse"``
+    (depth intensity, larger = nearer) and the largest for ``"distance"``
+    [spec step 3 decision]. Ties at the median count like any other value,
+    so a single outlier cannot become the background. A constant map is its
+    own background.
 
     Examples
     --------
@@ -232,14 +249,17 @@ def background_depth(depth: np.ndarray, *, encoding: str = "inverse") -> float:
     15.0
     >>> background_depth(np.array([[1.0, 1.5, 3.0, 3.5]]), encoding="distance")
     3.25
+
+    One far outlier among ties is averaged with them, not taken alone:
+
+    >>> background_depth(np.array([[5, 40, 40, 40, 200, 200]], np.uint8))
+    28.333333333333332
     """
     _check_choice("encoding", encoding, ENCODINGS)
     d = as_depth(depth, "depth")
-    values = d[np.isfinite(d)].astype(np.float64)
-    median = float(np.median(values))
-    farther = values[values < median] if encoding == "inverse" else values[values > median]
-    if farther.size == 0:
-        farther = values[values == median]
+    values = np.sort(d[np.isfinite(d)].astype(np.float64))  # nearest last for "inverse", farthest last for "distance"
+    n_farther = max(values.size // 2, 1)
+    farther = values[:n_farther] if encoding == "inverse" else values[values.size - n_farther:]
     return float(farther.mean())
 
 
@@ -420,6 +440,69 @@ def shift_from_rig(
     fx = rig.depth_camera.focal[0]
     return ShiftModel(slope=fx * baseline / value, color_side="right" if centre[0] >= 0 else "left",
                       encoding=kind)
+
+
+def shift_misregistration(
+    rig: StereoRig,
+    depth_shape: tuple[int, ...],
+    color_shape: tuple[int, ...],
+    z_background: float | None = None,
+) -> float:
+    """How far the shift alignment misplaces the background on this rig, in depth pixels.
+
+    The shift leaves the background (``d_bg``) where it is on the depth grid,
+    and the refinement stretches that grid over the color image (depth pixel
+    ``(i, j)`` at color pixel ``((i + 0.5) H / h - 0.5, (j + 0.5) W / w - 0.5)``).
+    That is right only if the color image shows the depth camera's field of
+    view. This maps a 3 x 3 grid of depth pixels (corners, edge midpoints,
+    centre) at the background distance through the rig into the color image
+    and returns the largest distance between where they land and where the
+    stretched grid puts them, in depth pixels. Both cameras are taken
+    without lens distortion (the chain undistorts both images first).
+
+    Parameters
+    ----------
+    rig : StereoRig
+    depth_shape : tuple
+        ``(h, w)`` of the depth map (the rig's depth camera).
+    color_shape : tuple
+        ``(H, W[, 3])`` of the color image (the rig's color camera).
+    z_background : float, optional
+        Distance of the background along the depth camera's axis, metres;
+        ``None``: at infinity (only the rotation and the intrinsics count).
+
+    Returns
+    -------
+    float
+        Depth pixels; ``inf`` when a probe point is behind the color camera.
+
+    Examples
+    --------
+    >>> cam = CameraModel(np.array([[80., 0, 47.5], [0, 80., 35.5], [0, 0, 1]]), np.zeros(5), (96, 72))
+    >>> shift_misregistration(StereoRig(cam, cam, np.eye(3), np.zeros(3)), (72, 96), (72, 96))
+    0.0
+    >>> wide = CameraModel(np.array([[70., 0, 47.5], [0, 70., 35.5], [0, 0, 1]]), np.zeros(5), (96, 72))
+    >>> round(shift_misregistration(StereoRig(cam, wide, np.eye(3), np.zeros(3)), (72, 96), (72, 96)), 3)
+    7.413
+    """
+    if not isinstance(rig, StereoRig):
+        raise TypeError(f"rig must be a StereoRig; got {type(rig).__name__}.")
+    (h, w), (rows_c, cols_c) = tuple(depth_shape[:2]), tuple(color_shape[:2])
+    if min(h, w, rows_c, cols_c) < 1:
+        raise ValueError(f"depth_shape and color_shape must be positive; got {depth_shape!r}, {color_shape!r}.")
+    if z_background is not None:
+        z_background = _check_number("z_background", z_background, positive=True)
+    K_d, K_c = rig.depth_camera.K, rig.color_camera.K
+    v, u = (g.ravel() for g in np.meshgrid([0.0, (h - 1) / 2, h - 1.0], [0.0, (w - 1) / 2, w - 1.0], indexing="ij"))
+    rays = np.column_stack([(u - K_d[0, 2]) / K_d[0, 0], (v - K_d[1, 2]) / K_d[1, 1], np.ones(u.size)])
+    points = rays @ rig.R.T if z_background is None else (rays * z_background) @ rig.R.T + rig.t
+    if not (points[:, 2] > 1e-9).all():
+        return math.inf
+    u_c = K_c[0, 0] * points[:, 0] / points[:, 2] + K_c[0, 2]
+    v_c = K_c[1, 1] * points[:, 1] / points[:, 2] + K_c[1, 2]
+    sx, sy = cols_c / w, rows_c / h
+    error = np.hypot((u_c - ((u + 0.5) * sx - 0.5)) / sx, (v_c - ((v + 0.5) * sy - 0.5)) / sy)
+    return float(error.max())
 
 
 # ----------------------------------------------------------------------------
@@ -626,10 +709,13 @@ class AlignSettings:
     radial : bool
         ``reproject``: depth is the distance along the ray, not ``Z``.
     undistort_depth : bool
-        Undo the depth camera's lens distortion (spec step 1).
+        Undo the depth camera's lens distortion (spec step 1); false: the
+        depth map is already undistorted.
     undistort_color : bool
         Undo the color camera's distortion (the thesis's lens has none; a
-        rig calibrated with zero distortion leaves the image unchanged).
+        rig calibrated with zero distortion leaves the image unchanged);
+        false: the color image is already undistorted, so it is used as it
+        is and the depth is aligned to the undistorted color camera.
     slope : float, optional
         ``shift``: ``k`` (default: from the rig, :func:`shift_from_rig`).
     background : float, optional
@@ -720,17 +806,22 @@ def align_depth(
     Returns
     -------
     depth_lr : float32 ndarray
-        Depth on the color image's grid divided by ``s`` (the undistorted
-        color image unless ``settings.undistort_color`` is false and the color
-        camera has distortion), input units, NaN = invalid.
+        Depth for the *undistorted* color image (``reproject``: on its grid
+        divided by ``s``; ``shift``: on the depth map's own grid, which the
+        refinement stretches over the color image), input units, NaN =
+        invalid. With a color lens that has distortion, refine against the
+        undistorted color image (:func:`undistort_image`), as
+        :func:`align_pair` does.
     notes : tuple of str
         What each step did, one line each.
 
     Raises
     ------
     ValueError
-        A depth size that differs from the rig's, missing depth units, or
-        settings the method cannot use.
+        A depth size that differs from the rig's, missing depth units,
+        settings the method cannot use, or a rig on which the shift would
+        misplace the background by more than one depth pixel
+        (:func:`shift_misregistration`).
     """
     settings = AlignSettings() if settings is None else settings
     if not isinstance(settings, AlignSettings):
@@ -784,10 +875,10 @@ def align_pair(
     if _undistorts_color(rig, settings):
         rgb = undistort_image(rgb, color_cam)
         notes.append("color image undistorted (bilinear)")
-        camera = color_cam.without_distortion()
-    else:
-        camera = color_cam
-    return AlignedPair(depth_lr, rgb, camera, settings.method, tuple(notes) + depth_notes)
+    elif color_cam.has_distortion:
+        notes.append("color image taken as already undistorted")
+    return AlignedPair(depth_lr, rgb, color_cam.without_distortion(), settings.method,
+                       tuple(notes) + depth_notes)
 
 
 def _undistorts_color(rig: StereoRig, settings: AlignSettings) -> bool:
@@ -804,8 +895,7 @@ def _chain_reproject(depth_raw, rig, settings, notes) -> np.ndarray:
     s, grid = reproject_camera(rig, factor=settings.factor)
     out = align_reproject(
         depth_raw, rig, depth_units=settings.depth_units, inverse_scale=settings.inverse_scale,
-        factor=s, radial=settings.radial, depth_distorted=settings.undistort_depth,
-        color_distorted=rig.color_camera.has_distortion and not _undistorts_color(rig, settings),
+        factor=s, radial=settings.radial, depth_distorted=settings.undistort_depth, color_distorted=False,
     )
     w, h = grid.image_size
     notes.append(f"depth reprojected into the color camera ({w}x{h} grid, s = {s}, z-buffer"
@@ -841,6 +931,21 @@ def _chain_shift(depth_raw, rig, settings, notes) -> np.ndarray:
     background = settings.background
     if background is None:
         background = background_depth(depth, encoding=encoding)
+    z_background = None  # metres, when the units say so; else the check looks at infinity
+    if encoding == "distance" and settings.depth_units is not None:
+        z_background = background * settings.depth_units
+    elif encoding == "inverse" and settings.inverse_scale is not None:
+        z_background = settings.inverse_scale / background
+    error = shift_misregistration(rig, depth.shape, rig.color_camera.shape, z_background)
+    if error > MAX_SHIFT_MISREGISTRATION:
+        at = f"{z_background:.3g} m" if z_background is not None else "infinity (depth units unknown)"
+        raise ValueError(
+            f"the shift alignment would misplace the depth by {error:.1f} depth pixels on this rig (the color "
+            f"image does not show the depth camera's field of view: different focal lengths, principal points "
+            f"or a rotation; checked at the background, {at}); use the reproject alignment (the default: "
+            f"--align reproject in run, --method reproject in align) or crop the color image to the depth "
+            f"camera's view."
+        )
     out = align_shift(depth, slope=slope, background=background, color_side=color_side, encoding=encoding)
     notes.append(f"depth shifted horizontally (thesis eq. 1): k = {slope:.6g}, d_bg = {background:.6g}, "
                  f"color camera on the {color_side}, {encoding} depth")

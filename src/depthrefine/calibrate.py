@@ -95,7 +95,12 @@ class CameraModel:
         K = _matrix("K", self.K, (3, 3))
         if not (K[0, 0] > 0 and K[1, 1] > 0 and K[2, 2] == 1 and K[1, 0] == 0 and K[2, 0] == 0 and K[2, 1] == 0):
             raise ValueError(
-                f"K must be [[fx, s, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0; got {K.tolist()}."
+                f"K must be [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0; got {K.tolist()}."
+            )
+        if K[0, 1] != 0:
+            raise ValueError(
+                f"K has a skew K[0][1] = {K[0, 1]:g}, which OpenCV's projection and undistortion ignore; "
+                "set it to 0 (recalibrate without skew: cv2.calibrateCamera never estimates one)."
             )
         dist = np.array(self.dist if self.dist is not None else [], dtype=np.float64).ravel()
         if dist.size == 0:

@@ -30,14 +30,17 @@ def add_align_options(p: argparse.ArgumentParser, *, method_flag: str) -> None:
     """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value)."""
     p.add_argument(method_flag, dest="align_method", choices=ALIGN_METHODS, default=None,
                    help="alignment: reproject (calibrated, any rig; default) or shift (the thesis's "
-                        "horizontal shift, parallel rigs)")
+                        "horizontal shift: a parallel rig whose color image shows the depth camera's view; "
+                        "refused when the background would land more than 1 depth pixel off)")
     add_units_options(p)
     p.add_argument("--factor", type=int, metavar="S",
                    help="reproject: scale factor s, the output is the color grid / s (default: focal-length ratio)")
     p.add_argument("--radial", action="store_true", default=None,
                    help="reproject: the depth is the distance along each ray, not Z")
     p.add_argument("--slope", type=float, metavar="K",
-                   help="shift: pixels of shift per depth unit (default: from the rig and the depth units)")
+                   help="shift: k, the shift in depth pixels is k * (d - d_bg) for --encoding inverse (k in "
+                        "depth pixels per depth unit) and k * (1/D - 1/D_bg) for distance (k in depth pixels "
+                        "times depth units); default: from the rig and the depth units")
     p.add_argument("--background", type=float, metavar="D",
                    help="shift: background depth d_bg, which does not move (default: mean of the farther half)")
     p.add_argument("--color-side", choices=COLOR_SIDES, default=None,
@@ -46,7 +49,8 @@ def add_align_options(p: argparse.ArgumentParser, *, method_flag: str) -> None:
                    help="shift: inverse (depth intensity, larger = nearer) or distance (mm, m); default: "
                         "distance with --depth-units, else inverse")
     p.add_argument("--no-undistort", action="store_true",
-                   help="the depth map and color image are already undistorted")
+                   help="the depth map and color image are already undistorted: neither is resampled and "
+                        "the depth is aligned to the undistorted color camera")
 
 
 def chain_settings(args: argparse.Namespace) -> ChainSettings:
@@ -84,10 +88,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "align",
         help="undistort a raw depth map and align it with the color camera (rig file)",
         description=(
-            "Undistort DEPTH with the rig's depth camera and bring it onto the color image's grid divided "
-            "by s: by reprojection through the calibrated rig (default; needs --depth-units or "
-            "--inverse-depth-scale), or by the thesis's horizontal shift k * (d - d_bg). The output keeps "
-            "DEPTH's dtype and units and is ready for `depthrefine refine OUT COLOR`."
+            "Undistort DEPTH with the rig's depth camera and align it with the color camera: by reprojection "
+            "through the calibrated rig (default; needs --depth-units or --inverse-depth-scale; the output is "
+            "on the color image's grid divided by s), or by the thesis's horizontal shift k * (d - d_bg) (the "
+            "output stays on the depth map's own grid, which refine stretches over the color image). The "
+            "output keeps DEPTH's dtype and units and lines up with the *undistorted* color image: refine it "
+            "with `depthrefine refine OUT COLOR`, COLOR being `depthrefine undistort RAW_COLOR --camera RIG "
+            "--color --intensity -o COLOR` when the color lens has distortion (`run` does all of this)."
         ),
     )
     p.add_argument("depth", metavar="DEPTH", help="raw depth map of the rig's depth camera")
@@ -126,6 +133,11 @@ def run_align(args: argparse.Namespace) -> int:
     _check_png_dtype(out, depth.dtype)
     depth_lr, notes = align_depth(depth, settings.rig, settings=settings.align)
     write_depth(out, depth_lr, dtype=depth.dtype, overwrite=args.overwrite)
+    if settings.rig.color_camera.has_distortion and settings.align.undistort_color:
+        notes = list(notes) + [
+            "aligned to the undistorted color image: the color lens has distortion, so refine against "
+            f"`depthrefine undistort COLOR --camera {args.rig} --color --intensity -o COLOR_UNDISTORTED`"
+        ]
     h, w = depth_lr.shape
     print(f"wrote {out} ({w}x{h}, {depth.dtype}): " + "; ".join(notes), file=sys.stderr)
     return 0

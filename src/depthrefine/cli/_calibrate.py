@@ -112,6 +112,14 @@ def _detect(paths: list[str], board: tuple[int, int], what: str) -> tuple[list, 
     return corners, (cols, rows)
 
 
+def _not_found(paths: list[str]) -> str:
+    """``"; not found in a.png, b.png"`` (the first 10 names), or ``""``."""
+    if not paths:
+        return ""
+    more = f" and {len(paths) - 10} more" if len(paths) > 10 else ""
+    return "; board not found in " + ", ".join(paths[:10]) + more
+
+
 def _square(args: argparse.Namespace, *, need_unit: bool) -> float:
     metres, unit_given = args.square
     if need_unit and not unit_given and metres >= 1.0:
@@ -131,7 +139,7 @@ def run_calibrate(args: argparse.Namespace) -> int:
     if len(views) < MIN_VIEWS:
         raise CliError(
             f"the board was found in {len(views)} of {len(args.images)} images; calibration needs at least "
-            f"{MIN_VIEWS}. Check --board (inner corners, COLSxROWS) and take more views."
+            f"{MIN_VIEWS}{_not_found(skipped)}. Check --board (inner corners, COLSxROWS) and take more views."
         )
     for path in skipped:  # after the check, so that an error stays one line
         print(f"depthrefine calibrate: board {args.board[0]}x{args.board[1]} not found in {path}; skipped",
@@ -169,9 +177,10 @@ def run_calibrate_stereo(args: argparse.Namespace) -> int:
         if cam is not None and cam.image_size != size:
             raise CliError(f"{what} was calibrated on {cam.image_size[0]}x{cam.image_size[1]} images but the "
                            f"images are {size[0]}x{size[1]}.")
-    used, notes = [], []
+    used, notes, missing = [], [], []
     for dpath, cpath, d, c in zip(args.depth_images, args.color_images, depth_corners, color_corners):
         if d is None or c is None:
+            missing += [p for p, x in ((dpath, d), (cpath, c)) if x is None]
             where = " and ".join(p for p, x in ((dpath, d), (cpath, c)) if x is None)
             notes.append(f"depthrefine calibrate-stereo: board not found in {where}; pair skipped")
         else:
@@ -179,7 +188,7 @@ def run_calibrate_stereo(args: argparse.Namespace) -> int:
     if len(used) < MIN_VIEWS:
         raise CliError(
             f"the board was found in both images of {len(used)} of {len(args.depth_images)} pairs; a stereo "
-            f"calibration needs at least {MIN_VIEWS}. Check --board and take more pairs."
+            f"calibration needs at least {MIN_VIEWS}{_not_found(missing)}. Check --board and take more pairs."
         )
     for note in notes:  # after the check, so that an error stays one line
         print(note, file=sys.stderr)

@@ -72,7 +72,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="rig or chain settings file (its color camera), or a camera file")
     add_units_options(e)
     e.add_argument("--stride", type=int, default=1, metavar="N", help="keep every N-th row and column")
-    e.add_argument("--no-undistort", action="store_true", help="COLOR and DEPTH are of the raw (distorted) image")
+    grid = e.add_mutually_exclusive_group()
+    grid.add_argument("--no-undistort", action="store_true",
+                      help="COLOR is already undistorted (as in align and run): use it as it is")
+    grid.add_argument("--distorted-grid", action="store_true",
+                      help="DEPTH and COLOR are on the raw (distorted) color grid: back-project through the "
+                           "lens distortion")
     add_overwrite(e)
     add_depth_options(e)
     e.set_defaults(func=run_export_ply)
@@ -190,9 +195,10 @@ def run_export_ply(args: argparse.Namespace) -> int:
     if depth.shape != rgb.shape[:2]:
         raise CliError(f"DEPTH is {depth.shape[1]}x{depth.shape[0]} but COLOR is {rgb.shape[1]}x{rgb.shape[0]}; "
                        "export the refined depth (on the color grid), e.g. the output of `run`.")
-    distorted = camera.has_distortion and args.no_undistort
-    if camera.has_distortion and not args.no_undistort:
-        rgb = undistort_image(rgb, camera)
+    distorted = camera.has_distortion and args.distorted_grid
+    if camera.has_distortion and not args.distorted_grid:
+        if not args.no_undistort:
+            rgb = undistort_image(rgb, camera)
         camera = camera.without_distortion()
     points, colors = depth_to_points(depth, camera, rgb=rgb, depth_units=depth_units, inverse_scale=inverse_scale,
                                      distorted=distorted, stride=args.stride)
