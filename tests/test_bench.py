@@ -18,14 +18,7 @@ from depthrefine.cli import main
 from depthrefine.evaluate import score
 from depthrefine.io import InputFileError, load_cases
 
-SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
-
-
-def _shared(*parts: str) -> Path:
-    path = SHARED_DATA.joinpath(*parts)
-    if not path.exists():
-        pytest.skip(f"shared data not available: {path}")
-    return path
+from conftest import shared_data_path as _shared
 
 
 def _pil_bicubic_up(depth_lr: np.ndarray, shape) -> np.ndarray:
