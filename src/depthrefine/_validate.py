@@ -16,7 +16,6 @@ import numpy as np
 
 __all__ = [
     "as_depth",
-    "as_rgb",
     "check_depth",
     "check_rgb",
     "check_positive_int",
@@ -133,11 +132,6 @@ def as_rgb_float(rgb: np.ndarray) -> np.ndarray:
     if rgb.dtype == np.uint16:
         return rgb.astype(np.float32) / np.float32(65535.0)
     return rgb.astype(np.float32, copy=True)
-
-
-def as_rgb(rgb: object, name: str = "rgb_hr") -> np.ndarray:
-    """Checked color image as float32 RGB in [0, 1]."""
-    return as_rgb_float(check_rgb(rgb, name))
 
 
 def check_positive_int(value: object, name: str) -> int:

@@ -23,6 +23,7 @@ import numpy as np
 from scipy import ndimage
 
 from ._validate import as_depth, check_pixels, check_rgb, valid_range
+from .baselines import fill_invalid_nearest
 from .params import RefineParams
 from .scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
 from .segment import cluster_colors, median_rgb, rgb_to_lab
@@ -360,7 +361,7 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
         patch_index = np.zeros((rows_w, cols_w), dtype=np.int32)
         pieces = np.full((params.n_clusters, rows_w, cols_w), np.nan, dtype=np.float32)
     # Nearest valid depth anywhere, for patches without any valid sample.
-    nearest_global = _fill_nearest(depth)
+    nearest_global = fill_invalid_nearest(depth)
 
     def solve(rect: tuple[int, int, int, int]) -> _PatchResult:
         return _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bin_width, n_bins,
@@ -456,7 +457,7 @@ def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bi
     result, per_cluster = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion, keep)
     missing = ~np.isfinite(result)
     if missing.any():
-        fallback = _fill_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
+        fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
         rr, cc = np.nonzero(missing)
         result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
     return _PatchResult(result, corrected, lab_samples, labels if keep else None, features,
@@ -567,15 +568,6 @@ def _axis_weights(n_hr: int, s: int, n_lr: int):
 def _nearest_sample(hr_index: np.ndarray, s: int, n_lr: int) -> np.ndarray:
     """Index of the depth sample nearest to HR positions along one axis."""
     return np.clip(np.floor((hr_index - s // 2) / s + 0.5).astype(np.intp), 0, n_lr - 1)
-
-
-def _fill_nearest(depth: np.ndarray) -> np.ndarray:
-    """Every pixel takes the value of the nearest finite pixel (Euclidean, on the depth grid)."""
-    valid = np.isfinite(depth)
-    if valid.all():
-        return depth
-    _, (ir, ic) = ndimage.distance_transform_edt(~valid, return_indices=True)
-    return depth[ir, ic]
 
 
 def _spread(depth_lr: np.ndarray, s: int, shape: tuple[int, int]) -> np.ndarray:
