@@ -1,6 +1,6 @@
 """Tune the OpenCV peers' parameters on the benchmark's tuning scenes.
 
-Each peer (``depthrefine.peers``) has a few parameters; this script scores
+Each peer (``depthrefine.methods.peers``) has a few parameters; this script scores
 every combination of a small grid on the tuning scenes of two protocols
 (``depthrefine.bench.tuned_on_scenes``): Park's noisy Dolls and Laundry, and
 four of the noise-free 30-image Middlebury set (Baby1, Cloth2, Midd1,
@@ -29,7 +29,7 @@ import sys
 import time
 from pathlib import Path
 
-from depthrefine import peers
+from depthrefine.methods import peers
 from depthrefine.bench import TUNING_SCENES, mean_or_nan, run_benchmark, tuned_on_scenes
 from depthrefine.io import load_cases
 

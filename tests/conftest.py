@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from depthrefine.synthetic import make_scene, make_two_planes
+from depthrefine.bench.synthetic import make_scene, make_two_planes
 
 #: ../shared/data beside the repository (team rule); tests skip when it is missing.
 SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from depthrefine.align import (
+from depthrefine.rig import (
     AlignmentWarning,
     AlignSettings,
     align_depth,
@@ -33,7 +33,7 @@ from depthrefine.align import (
     undistort_depth,
     undistort_image,
 )
-from depthrefine.calibrate import CameraModel, StereoRig
+from depthrefine.rig import CameraModel, StereoRig
 
 #: Background plane (Z, metres) and the nearer rectangle (Z, x0, x1, y0, y1), depth camera frame.
 Z_BACK = 2.0

@@ -37,7 +37,7 @@ from depthrefine import RefineParams, cli
 from depthrefine import _validate
 from depthrefine.io import _images as images
 from depthrefine.io import read_depth, read_mapping, read_patch_layout, read_rgb
-from depthrefine.params import params_from_mapping
+from depthrefine.methods.thesis.params import params_from_mapping
 
 # ----------------------------------------------------------------------------
 # The scene every case starts from: 16 x 20 depth, 64 x 80 color (x4)
@@ -405,7 +405,7 @@ def _boom(*args, **kwargs):
 
 def test_internal_error_exit_1_without_traceback(tmp_path, capsys, monkeypatch):
     ws = Workspace(tmp_path)
-    monkeypatch.setattr("depthrefine.refinement.median_rgb", _boom)
+    monkeypatch.setattr("depthrefine.methods.thesis.refine.median_rgb", _boom)
     before = _snapshot(tmp_path)
     code, err = _run(ws.refine(), capsys)
     assert code == 1
@@ -418,7 +418,7 @@ def test_internal_error_exit_1_without_traceback(tmp_path, capsys, monkeypatch):
 @pytest.mark.parametrize("where", ["before", "after"])
 def test_internal_error_traceback_with_debug(tmp_path, capsys, monkeypatch, where):
     ws = Workspace(tmp_path)
-    monkeypatch.setattr("depthrefine.refinement.median_rgb", _boom)
+    monkeypatch.setattr("depthrefine.methods.thesis.refine.median_rgb", _boom)
     argv = ws.refine()
     argv = ["--debug", *argv] if where == "before" else [*argv, "--debug"]
     before = _snapshot(tmp_path)
@@ -444,7 +444,7 @@ def test_interrupt_exit_130_nothing_written(tmp_path, capsys, monkeypatch):
     def interrupt(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("depthrefine.refinement.median_rgb", interrupt)
+    monkeypatch.setattr("depthrefine.methods.thesis.refine.median_rgb", interrupt)
     before = _snapshot(tmp_path)
     code, err = _run(ws.refine(), capsys)
     assert code == 130 and "interrupted" in err and "Traceback" not in err

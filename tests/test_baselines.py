@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from depthrefine.baselines import fill_invalid_nearest, upsample_bicubic, upsample_bilinear, upsample_nearest
+from depthrefine.methods.baselines import fill_invalid_nearest, upsample_bicubic, upsample_bilinear, upsample_nearest
 
 BASELINES = [upsample_nearest, upsample_bilinear, upsample_bicubic]
 

@@ -139,7 +139,7 @@ def test_bench_cli_on_one_scene_at_one_scale(tmp_path, capsys):
     assert tuple(rows[0]) == ROW_FIELDS
     # The bilinear row is the library's own score of the protocol's case.
     case = load_cases(tmp_path / "data", "lu", (16,))[0]
-    from depthrefine.baselines import upsample_bilinear
+    from depthrefine.methods.baselines import upsample_bilinear
     expected = score(upsample_bilinear(case.depth_lr, case.rgb_hr), case.depth_gt, border=LU_BORDER)
     assert float(rows[1]["rmse"]) == pytest.approx(expected.rmse, rel=1e-5)
     assert float(rows[1]["edge_rmse"]) == pytest.approx(expected.edge_rmse, rel=1e-5)

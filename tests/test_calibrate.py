@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 import pytest
 
-from depthrefine.calibrate import (
+from depthrefine.rig import (
     MIN_VIEWS,
     CameraModel,
     StereoRig,

@@ -16,7 +16,7 @@ import depthrefine
 from depthrefine import METHODS, RefineParams
 from depthrefine.cli import main
 from depthrefine.io import depth_to_dtype
-from depthrefine.synthetic import make_scene
+from depthrefine.bench.synthetic import make_scene
 
 SCENE = make_scene((64, 96), 4, n_objects=2, seed=5, color_noise_std=4.0, hole_fraction=0.03)
 

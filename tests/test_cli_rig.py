@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 import pytest
 
-from depthrefine.align import align_reproject, undistort_image
+from depthrefine.rig import align_reproject, undistort_image
 from depthrefine.cli import main
 from depthrefine.io import read_camera, read_depth, read_ply, read_rgb, read_rig, write_rig
 from test_align import COLOR_CAM, DEPTH_CAM, RIG, RIG_R, RIG_T, _shift_rig, edge_zone, render_depth

@@ -33,7 +33,7 @@ from hypothesis.extra.numpy import arrays
 
 import depthrefine
 from depthrefine import METHODS, RefineParams
-from depthrefine.scale import plan_scale
+from depthrefine.methods.scale import plan_scale
 
 N_EXAMPLES = int(os.environ.get("DEPTHREFINE_FUZZ_EXAMPLES", "3000"))
 

@@ -9,7 +9,7 @@ import pytest
 
 import depthrefine
 from depthrefine import METHODS, RefineParams, get_method, refine, register_method
-from depthrefine.refinement import refine_thesis
+from depthrefine.methods.thesis.refine import refine_thesis
 
 
 @pytest.fixture

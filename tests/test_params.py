@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from depthrefine.params import RefineParams, params_from_mapping
+from depthrefine.methods.thesis.params import RefineParams, params_from_mapping
 
 
 def test_defaults_are_the_thesis_values():

@@ -1,4 +1,4 @@
-"""The OpenCV-contrib peers (depthrefine.peers) and their registration."""
+"""The OpenCV-contrib peers (depthrefine.methods.peers) and their registration."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import depthrefine
-from depthrefine import peers
-from depthrefine.baselines import upsample_bilinear
+from depthrefine.methods import peers
+from depthrefine.methods.baselines import upsample_bilinear
 from depthrefine.evaluate import score
-from depthrefine.synthetic import make_two_planes
+from depthrefine.bench.synthetic import make_two_planes
 
 PEERS = {
     "jbf": (peers.upsample_jbf, peers.JointBilateralParams),
@@ -118,7 +118,8 @@ def test_fast_bilateral_solver_availability_matches_opencv():
 
 
 def test_fast_bilateral_solver_is_registered_exactly_when_it_works():
-    from depthrefine import METHODS, peers
+    from depthrefine import METHODS
+    from depthrefine.methods import peers
     status = peers.fast_bilateral_solver_status()
     assert peers.fast_bilateral_solver_available() == (status == "")
     assert ("fbs" in METHODS) == (status == "")

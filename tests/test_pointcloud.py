@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from depthrefine.calibrate import CameraModel
+from depthrefine.rig import CameraModel
 from depthrefine.io import InputFileError, read_ply, write_ply
-from depthrefine.pointcloud import (
+from depthrefine.rig.pointcloud import (
     backproject,
     depth_to_metres,
     depth_to_points,

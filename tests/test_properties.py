@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 import depthrefine
 from depthrefine import METHODS, RefineParams
-from depthrefine.synthetic import PALETTE
+from depthrefine.bench.synthetic import PALETTE
 
 #: Depth map sizes (rows, cols), integer scale factors, seeds of the random scene.
 DEPTH_SHAPES = st.tuples(st.integers(1, 7), st.integers(1, 7))
@@ -116,7 +116,7 @@ def test_output_has_the_color_shape_and_is_float32(depth_shape, seed, method, co
     H, W = color_shape
     rgb = np.random.default_rng(seed).integers(0, 256, (H, W, 3)).astype(np.uint8)
     try:
-        depthrefine.scale.plan_scale(depth.shape, rgb.shape)
+        depthrefine.methods.scale.plan_scale(depth.shape, rgb.shape)
     except ValueError:
         return  # not a camera pair (smaller, or another aspect): refused, tested in test_scale.py
     out = run(method, depth, rgb)

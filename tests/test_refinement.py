@@ -8,9 +8,9 @@ import pytest
 
 import depthrefine
 from depthrefine import RefineParams, refine_with_intermediates
-from depthrefine.refinement import correct_cluster_depths, patch_grid, refine_thesis
-from depthrefine.segment import median_rgb, rgb_to_lab
-from depthrefine.synthetic import make_scene, make_two_planes
+from depthrefine.methods.thesis.refine import correct_cluster_depths, patch_grid, refine_thesis
+from depthrefine.methods.thesis.segment import median_rgb, rgb_to_lab
+from depthrefine.bench.synthetic import make_scene, make_two_planes
 
 
 def rmse(depth, gt):

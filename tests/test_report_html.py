@@ -1,4 +1,4 @@
-"""The benchmark report (depthrefine.report) and its HTML page, checked in a real headless browser."""
+"""The benchmark report (depthrefine.bench.report) and its HTML page, checked in a real headless browser."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from depthrefine import report
+from depthrefine.bench import report
 from depthrefine.bench import BenchRow, park_case
 from depthrefine.cli import main
 

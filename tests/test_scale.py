@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import depthrefine
-from depthrefine.scale import MAX_ASPECT_MISMATCH, plan_scale, resize_color, resize_depth_nearest
+from depthrefine.methods.scale import MAX_ASPECT_MISMATCH, plan_scale, resize_color, resize_depth_nearest
 
 
 def test_integer_ratio_needs_no_resize():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from depthrefine.segment import (
+from depthrefine.methods.thesis.segment import (
     AB_STEP, cluster_colors, initial_means, kmeans, lightness_classes, median_rgb, rgb_to_lab, unify_lightness,
 )
 

@@ -1,11 +1,11 @@
-"""The simulated ToF sensor (depthrefine.simulate): each part of the model, seeds, errors."""
+"""The simulated ToF sensor (depthrefine.bench.simulate): each part of the model, seeds, errors."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from depthrefine.simulate import ToFModel, footprint_mean, linear_luminance, simulate_tof
+from depthrefine.bench.simulate import ToFModel, footprint_mean, linear_luminance, simulate_tof
 
 QUIET = ToFModel(noise_near=0.0, noise_far=0.0, dark_low=0.0, dark_high=0.0)
 BRIGHT = np.full((32, 32, 3), 200, np.uint8)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from depthrefine.synthetic import DEPTH_CONSTANT, PALETTE, make_scene, make_two_planes
+from depthrefine.bench.synthetic import DEPTH_CONSTANT, PALETTE, make_scene, make_two_planes
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.float32])

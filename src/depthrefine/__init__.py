@@ -6,30 +6,23 @@ The main entry point is :func:`refine`::
     depth_hr = depthrefine.refine(depth_lr, rgb_hr)                 # the thesis method
     depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="bilinear")
 
-Subpackages and modules, one per pipeline stage:
+Subpackages, one per domain (the README's "Architecture" section draws the flow):
 
-- ``io``          reading and writing depth, color, parameter and camera files
-- ``calibrate``   checkerboard calibration: camera models and the depth + color rig
-- ``align``       undistortion, the thesis's shift alignment, calibrated reprojection
-- ``pointcloud``  metric depth, back-projection and projection, colored point clouds
-- ``scale``       the thesis's scale step (integer depth factor)
-- ``segment``     color clustering: median, L*a*b*, unified L*, k-means
-- ``refinement``  the thesis refinement (chapter 4), with its intermediates
-- ``baselines``   nearest, bilinear, bicubic
-- ``methods``     the registry of methods that :func:`refine` looks up
-- ``viz``         pictures: colorized depth, overlays, comparison figures
-- ``peers``       OpenCV-contrib guided filters as methods: jbf, guided, fgs, wmf
-- ``evaluate``    error metrics against ground truth (RMSE, MAE, edge RMSE, bad pixels)
-- ``simulate``    a simulated low-resolution ToF sensor (our model) from ground truth
-- ``bench``       the benchmark: protocols, cases, runs and scores
-- ``report``      the benchmark report: tables, figures, HTML
-- ``synthetic``   generated test scenes with known ground truth
-- ``cli``         the ``depthrefine`` command
+- ``methods``   the registry :func:`refine` looks up, and one module per method family:
+                ``baselines``, ``peers`` (OpenCV-contrib filters), ``thesis`` (chapter 4)
+- ``rig``       two cameras to one grid (chapter 3): camera models, calibration,
+                undistortion, shift and reprojection alignment, point clouds
+- ``bench``     metrics, the simulated ToF sensor, protocols, runner and report
+- ``io``        every file format we read and write (the only module that touches files,
+                with ``cli``)
+- ``cli``       the ``depthrefine`` command, one module per subcommand
+- ``viz``       pictures: colorized depth, overlays, comparison figures
+- ``evaluate``  the public name of the metrics (``bench.metrics``)
 """
 
-from .methods import METHODS, Method, get_method, refine, register_method
-from .params import RefineParams
-from .refinement import Refinement, ScaleWarning, refine_with_intermediates
+from .methods.registry import METHODS, Method, get_method, refine, register_method
+from .methods.thesis.params import RefineParams
+from .methods.thesis.refine import Refinement, ScaleWarning, refine_with_intermediates
 
 __version__ = "0.1.0"
 

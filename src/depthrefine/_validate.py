@@ -8,9 +8,10 @@ message that names the argument, says what was received and what to do.
 from __future__ import annotations
 
 import contextlib
+import math
 import contextvars
 import os
-from typing import Iterator
+from typing import Any, Iterator
 
 import numpy as np
 
@@ -19,6 +20,9 @@ __all__ = [
     "check_depth",
     "check_rgb",
     "check_positive_int",
+    "check_choice",
+    "is_int",
+    "check_number",
     "valid_range",
     "no_valid_pixel_message",
     "available_memory",
@@ -243,3 +247,29 @@ def check_pixels(
 
 def _gib(n_bytes: int) -> str:
     return f"{n_bytes / 2**30:.1f} GiB" if n_bytes >= 2**30 else f"{n_bytes / 2**20:.1f} MiB"
+
+
+def check_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
+    """``value`` if it is one of ``choices``; else a ``ValueError`` naming ``name`` and the choices."""
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {list(choices)}; got {value!r}.")
+    return value
+
+
+def check_number(name: str, value: Any, *, positive: bool = False, nonnegative: bool = False) -> float:
+    """``value`` as a finite float (``TypeError`` for a non-number; ``ValueError`` if out of range)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a number; got {value!r}.")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite; got {value}.")
+    if positive and value <= 0:
+        raise ValueError(f"{name} must be > 0; got {value}.")
+    if nonnegative and value < 0:
+        raise ValueError(f"{name} must be >= 0; got {value}.")
+    return value
+
+
+def is_int(value: Any) -> bool:
+    """Whether ``value`` is an integer (Python or NumPy), not a bool."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import logging
 import sys
 import traceback
 import warnings
@@ -30,12 +29,14 @@ __all__ = ["main", "build_parser", "CliError"]
 
 #: Subcommand modules, in the order ``--help`` lists them.
 COMMAND_MODULES = [
-    "_refine",
-    "_demo",
-    "_calibrate",
-    "_align",
-    "_run",
-    "_bench",
+    "refine",
+    "demo",
+    "calibrate",
+    "align",
+    "undistort",
+    "run",
+    "export_ply",
+    "bench",
 ]
 
 
@@ -74,7 +75,6 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # --help, --version, or a usage error (already printed, status 2)
         return exc.code if isinstance(exc.code, int) else 2
     args.debug = bool(getattr(args, "debug", False))
-    logging.basicConfig(level=logging.INFO, format="%(message)s", stream=sys.stderr)
     try:
         with warnings.catch_warnings(), pixel_limit(getattr(args, "max_pixels", None)):
             warnings.simplefilter("default")

@@ -6,11 +6,11 @@ import argparse
 import dataclasses
 import re
 import sys
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 from ..io import read_mapping, read_patch_layout
-from ..methods import METHODS, get_method
-from ..params import params_from_mapping
+from ..methods.registry import METHODS, get_method
+from ..methods.thesis.params import params_from_mapping
 
 __all__ = [
     "add_output",
@@ -98,10 +98,17 @@ def add_params_options(parser: argparse.ArgumentParser) -> None:
                         help="method parameters as TOML (or JSON): key = value per parameter")
 
 
-def build_params(args: argparse.Namespace) -> Any:
-    """The method's parameter dataclass from --params FILE and the option overrides."""
-    entry = get_method(args.method)
-    overrides: dict[str, Any] = {}
+def build_params(args: argparse.Namespace, *, method: str | None = None,
+                 base: Mapping[str, Any] | None = None) -> Any:
+    """The method's parameter dataclass: ``base`` (a settings file's), then --params FILE, then the options.
+
+    ``method`` defaults to ``args.method``. Every command that refines builds
+    its parameters here, so the checks (--patches against a file's
+    ``patch_layout``, parameters for a method that takes none) are the same
+    everywhere.
+    """
+    entry = get_method(args.method if method is None else method)
+    overrides: dict[str, Any] = dict(base or {})
     if args.params:
         overrides.update(read_mapping(args.params, what="parameter"))
     if args.patches is not None:

@@ -5,7 +5,7 @@ measurement; the output keeps the input's dtype; color is RGB).
 """
 
 from ._files import InputFileError, atomic_directory, atomic_write, check_output, check_output_dir
-from ._images import DEPTH_SUFFIXES, depth_to_dtype, image_shape, read_depth, read_rgb, write_depth, write_rgb
+from ._images import DEPTH_SUFFIXES, check_depth_format, depth_to_dtype, image_shape, read_depth, read_rgb, write_depth, write_rgb
 from ._params import read_mapping, read_patch_layout
 from ._camera import (
     ChainSettings, read_camera, read_chain_settings, read_rig, write_camera, write_chain_settings, write_rig,
@@ -22,6 +22,7 @@ __all__ = [
     "check_output_dir",
     "image_shape",
     "DEPTH_SUFFIXES",
+    "check_depth_format",
     "depth_to_dtype",
     "read_depth",
     "read_rgb",

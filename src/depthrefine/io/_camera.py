@@ -17,7 +17,7 @@ Rig file (JSON, written by ``depthrefine calibrate-stereo``)::
 
 Chain settings file (TOML or JSON), the one file to keep next to the
 captures: the rig (a path relative to the file, or the rig inline), the
-alignment (:class:`depthrefine.align.AlignSettings`) and the refinement::
+alignment (:class:`depthrefine.rig.AlignSettings`) and the refinement::
 
     rig = "rig.json"
     [align]
@@ -37,9 +37,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..align import AlignSettings
-from ..calibrate import CameraModel, StereoRig
-from ..params import params_from_mapping
+from ..rig.chain import AlignSettings
+from ..rig.camera import CameraModel, StereoRig
+from ..methods.thesis.params import params_from_mapping
 from ._files import InputFileError, atomic_write, check_output
 from ._params import read_mapping
 

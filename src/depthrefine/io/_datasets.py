@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bench import PROTOCOLS, BenchCase, lu_case, park_case, tof_case
+from ..bench.runner import PROTOCOLS, BenchCase, lu_case, park_case, tof_case
 from ._files import InputFileError
 from ._images import read_depth, read_rgb
 

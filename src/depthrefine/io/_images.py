@@ -47,6 +47,7 @@ __all__ = [
     "read_rgb",
     "write_rgb",
     "DEPTH_SUFFIXES",
+    "check_depth_format",
     "depth_to_dtype",
     "image_shape",
 ]
@@ -285,6 +286,33 @@ def depth_to_dtype(depth: np.ndarray, dtype: np.dtype | type) -> np.ndarray:
     return out
 
 
+
+def check_depth_format(path: str | os.PathLike, dtype: np.dtype | type) -> str:
+    """The lower-case suffix of ``path`` if it is a depth format that can hold ``dtype``.
+
+    Commands call it before any work, so a wrong output name fails at once.
+
+    Raises
+    ------
+    InputFileError
+        An unknown depth format, or an integer format (PNG, PGM) for a
+        float depth map.
+    """
+    p = Path(path)
+    suffix = p.suffix.lower()
+    dtype = np.dtype(dtype)
+    if suffix not in DEPTH_SUFFIXES:
+        raise InputFileError(
+            f"output {p}: unknown depth format {suffix!r}; use one of {', '.join(DEPTH_SUFFIXES)}."
+        )
+    if suffix in _INTEGER_SUFFIXES and dtype not in (np.uint8, np.uint16):
+        raise InputFileError(
+            f"output {p}: {suffix} holds 8- or 16-bit integers, but the depth is {dtype}; "
+            "write .tif or .npy to keep it."
+        )
+    return suffix
+
+
 def write_depth(
     path: str | os.PathLike, depth: np.ndarray, *, dtype: np.dtype | type | None = None, overwrite: bool = False
 ) -> Path:
@@ -297,17 +325,8 @@ def write_depth(
         format cannot hold ``dtype`` (float in PNG) or is unknown.
     """
     p = check_output(path, overwrite=overwrite, what="output")
-    suffix = p.suffix.lower()
     dtype = np.dtype(depth.dtype if dtype is None else dtype)
-    if suffix not in DEPTH_SUFFIXES:
-        raise InputFileError(
-            f"output {p}: unknown depth format {suffix!r}; use one of {', '.join(DEPTH_SUFFIXES)}."
-        )
-    if suffix in _INTEGER_SUFFIXES and dtype not in (np.uint8, np.uint16):
-        raise InputFileError(
-            f"output {p}: {suffix} holds 8- or 16-bit integers, but the depth is {dtype}; "
-            "write .tif or .npy to keep it."
-        )
+    suffix = check_depth_format(p, dtype)
     data = depth_to_dtype(depth, dtype)
 
     def _write(tmp: Path) -> None:

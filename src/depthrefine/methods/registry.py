@@ -18,10 +18,10 @@ from typing import Any, Callable
 import numpy as np
 
 from . import baselines, peers
-from ._validate import check_pixels
+from .._validate import check_pixels
 from .scale import plan_scale
-from .params import RefineParams
-from .refinement import refine_thesis
+from .thesis.params import RefineParams
+from .thesis.refine import refine_thesis
 
 __all__ = ["Method", "METHODS", "register_method", "get_method", "refine"]
 

@@ -10,8 +10,8 @@ import time
 from .. import __version__, viz
 from ..evaluate import rmse
 from ..io import SAMPLE_SCALES, atomic_directory, load_sample, sample_folder, write_depth, write_rgb
-from ..methods import refine
-from ..params import RefineParams
+from ..methods.registry import refine
+from ..methods.thesis.params import RefineParams
 from ._common import add_overwrite, progress_bar
 
 

@@ -11,26 +11,10 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
-from scipy import ndimage
-
-from ._validate import as_depth, check_rgb
+from .._fill import fill_invalid_nearest
+from .._validate import as_depth, check_rgb
 
 __all__ = ["upsample_nearest", "upsample_bilinear", "upsample_bicubic", "fill_invalid_nearest", "upsample"]
-
-
-def fill_invalid_nearest(depth: np.ndarray) -> np.ndarray:
-    """Replace NaN pixels by the value of the nearest valid pixel (new array).
-
-    Examples
-    --------
-    >>> fill_invalid_nearest(np.array([[1, np.nan, np.nan, 4]], np.float32)).tolist()
-    [[1.0, 1.0, 4.0, 4.0]]
-    """
-    valid = np.isfinite(depth)
-    if valid.all():
-        return depth.copy()
-    _, (ir, ic) = ndimage.distance_transform_edt(~valid, return_indices=True)
-    return depth[ir, ic]
 
 
 def upsample(depth_lr: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.ndarray:

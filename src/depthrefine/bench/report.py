@@ -31,9 +31,9 @@ from typing import Any, Mapping, Sequence
 import cv2
 import numpy as np
 
-from .bench import METRICS, PROTOCOLS, ROW_FIELDS, BenchCase, BenchRow, left_out_reason, mean_and_count, mean_or_nan
-from .evaluate import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
-from .viz import colorize_depth, depth_limits, to_rgb8
+from .runner import METRICS, PROTOCOLS, ROW_FIELDS, BenchCase, BenchRow, left_out_reason, mean_and_count, mean_or_nan
+from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
+from ..viz import colorize_depth, depth_limits, to_rgb8
 
 __all__ = [
     "PUBLISHED",

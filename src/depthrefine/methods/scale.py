@@ -9,7 +9,7 @@ resized by ``s / ratio`` with bilinear interpolation (thesis: ratio 7.4, so
 The ratio is measured from the two arrays' shapes, so the color image must
 cover the same field of view as the depth map: crop it first (the thesis's
 7.4 is the ratio of the scene content; its frames, 1760 / 176, are 10 apart),
-or align with :mod:`depthrefine.align`, which renders the depth on the color
+or align with :mod:`depthrefine.rig`, which renders the depth on the color
 camera's grid.
 """
 

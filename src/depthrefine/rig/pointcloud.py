@@ -1,6 +1,6 @@
 """From depth maps to 3-D points and back: metric conversion, back-projection, projection.
 
-Used by the calibrated alignment (:func:`depthrefine.align.align_reproject`)
+Used by the calibrated alignment (:func:`depthrefine.rig.align_reproject`)
 and for exporting a refined depth map as a colored point cloud in the color
 camera's frame (written as PLY by :func:`depthrefine.io.write_ply`).
 
@@ -30,8 +30,8 @@ import math
 import cv2
 import numpy as np
 
-from ._validate import as_depth
-from .calibrate import CameraModel
+from .._validate import as_depth
+from .camera import CameraModel
 
 __all__ = [
     "depth_to_metres",
@@ -260,7 +260,7 @@ def depth_to_points(
         raise ValueError(f"stride must be an integer >= 1; got {stride!r}.")
     colors = None
     if rgb is not None:
-        from ._validate import check_rgb
+        from .._validate import check_rgb
 
         rgb = check_rgb(rgb, "rgb")
         if rgb.shape[:2] != z.shape:

@@ -22,10 +22,10 @@ from typing import Callable
 import numpy as np
 from scipy import ndimage
 
-from ._validate import as_depth, check_pixels, check_rgb, valid_range
-from .baselines import fill_invalid_nearest
+from ..._validate import as_depth, check_pixels, check_rgb, valid_range
+from ..._fill import fill_invalid_nearest
 from .params import RefineParams
-from .scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
+from ..scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
 from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
@@ -73,7 +73,7 @@ class Refinement:
     lab_unified : (Hw, Ww, 3) float32
         L*a*b* of the filtered color with L* unified per patch (before the L*
         weight) (4.3.2). k-means clusters these with a* and b* binned at
-        :data:`depthrefine.segment.AB_STEP` units.
+        :data:`depthrefine.methods.thesis.segment.AB_STEP` units.
     labels : (Hw, Ww) int16
         Cluster label of each pixel, local to its patch, ``0 .. k'-1`` (4.3.3).
     patch_index : (Hw, Ww) int32

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import as_rgb_float, check_positive_int, check_rgb
+from .._validate import as_rgb_float, check_positive_int, check_rgb
 
 __all__ = ["ToFModel", "simulate_tof", "footprint_mean", "linear_luminance"]
 

@@ -10,11 +10,11 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..io import (DEPTH_SUFFIXES, atomic_directory, check_output, check_output_dir, read_depth, read_rgb,
+from ..io import (DEPTH_SUFFIXES, check_depth_format, atomic_directory, check_output, check_output_dir, read_depth, read_rgb,
                   write_depth, write_rgb)
-from ..methods import get_method, refine
-from ..refinement import refine_with_intermediates
-from ..scale import plan_scale
+from ..methods.registry import get_method, refine
+from ..methods.thesis.refine import refine_with_intermediates
+from ..methods.scale import plan_scale
 from .. import viz
 from ._common import (add_depth_options, add_output, add_overwrite, add_params_options, build_params,
                       params_dict, progress_bar)
@@ -54,10 +54,7 @@ def run(args: argparse.Namespace) -> int:
     params = build_params(args)  # before reading the images: a bad parameter fails at once
     depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
-    if out.suffix.lower() in (".png", ".pgm") and depth_lr.dtype not in (np.uint8, np.uint16):
-        raise ValueError(
-            f"output {out}: the depth is {depth_lr.dtype}, which {out.suffix} cannot hold; write .tif or .npy."
-        )
+    check_depth_format(out, depth_lr.dtype)
     step = plan_scale(depth_lr.shape, rgb_hr.shape)
     entry = get_method(args.method)
     update, close = progress_bar(f"refine ({entry.name})")

@@ -8,7 +8,8 @@ import sys
 
 import numpy as np
 
-from ..calibrate import MIN_VIEWS, calibrate_from_corners, calibrate_stereo_from_corners, find_board_corners
+from ..rig.boards import find_board_corners
+from ..rig.calibrate import MIN_VIEWS, calibrate_from_corners, calibrate_stereo_from_corners
 from ..io import InputFileError, check_output, read_camera, read_depth, read_rgb, write_camera, write_rig
 from . import CliError
 from ._common import add_overwrite

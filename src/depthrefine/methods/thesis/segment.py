@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 from scipy import ndimage
 
-from ._validate import as_rgb_float, check_positive_int
+from ..._validate import as_rgb_float, check_positive_int
 
 __all__ = [
     "median_rgb",

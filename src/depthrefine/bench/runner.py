@@ -17,7 +17,7 @@ READMEs say how each is scored):
     downsampling (:func:`bicubic_downsample`), mapped back to 0..255 units;
     RMSE in those units after a 6-pixel border crop.
 ``tof``
-    Simulated ToF (ours, :mod:`depthrefine.simulate`) from the Park ground
+    Simulated ToF (ours, :mod:`depthrefine.bench.simulate`) from the Park ground
     truth and color, scored like ``park``.
 
 The scenes in :data:`TUNING_SCENES` are the ones the peers' parameters were
@@ -41,8 +41,8 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from .evaluate import score
-from .methods import get_method
+from .metrics import score
+from ..methods.registry import get_method
 from .simulate import ToFModel, simulate_tof
 
 __all__ = [

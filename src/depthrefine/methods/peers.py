@@ -2,7 +2,7 @@
 
 These are the filters a practitioner would pick instead of the thesis
 method. Each one enlarges the depth map bilinearly to the color image's grid
-(:func:`depthrefine.baselines.upsample`, which first fills invalid pixels
+(:func:`depthrefine.methods.baselines.upsample`, which first fills invalid pixels
 from their nearest valid neighbour, so no invalid pixel is averaged in) and
 then filters it with the color image as guide:
 
@@ -50,7 +50,7 @@ from typing import Callable
 import cv2
 import numpy as np
 
-from ._validate import as_rgb_float, check_rgb
+from .._validate import as_rgb_float, check_rgb
 from .baselines import upsample
 
 __all__ = [
@@ -286,7 +286,7 @@ def upsample_wmf(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: WeightedMe
     """
     params, rgb, start, s = _prepare(depth_lr, rgb_hr, params, WeightedMedianParams)
     radius = max(1, int(round(params.radius_lr * s)))
-    cv2.setRNGSeed(0)  # the color clustering draws from OpenCV's RNG (see above)
+    cv2.setRNGSeed(0)  # the filter clusters the guide colors with OpenCV's RNG: seed it, so reruns are bit-identical
     out = cv2.ximgproc.weightedMedianFilter(_guide8(rgb), start, radius, params.sigma)
     _done(progress)
     return out.astype(np.float32, copy=False)

@@ -179,7 +179,7 @@ def make_scene(
 
     Examples
     --------
-    >>> from depthrefine.synthetic import make_scene
+    >>> from depthrefine.bench.synthetic import make_scene
     >>> scene = make_scene((64, 96), 4, n_objects=2, seed=1)
     >>> scene.rgb_hr.shape, scene.depth_lr.shape, scene.depth_lr.dtype.name
     ((64, 96, 3), (16, 24), 'uint8')

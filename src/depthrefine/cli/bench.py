@@ -8,12 +8,12 @@ import sys
 from pathlib import Path
 
 from .. import __version__
-from ..bench import (DEFAULT_SCALES, PROTOCOLS, TUNING_SCENES, left_out_reason, parse_scales, run_benchmark,
+from ..bench.runner import (DEFAULT_SCALES, PROTOCOLS, TUNING_SCENES, left_out_reason, parse_scales, run_benchmark,
                      tuned_on_scenes)
 from ..io import DATASET_FOLDERS, InputFileError, atomic_directory, check_output_dir, load_cases
-from ..methods import METHODS, get_method
-from ..peers import fast_bilateral_solver_status
-from .. import report
+from ..methods.registry import METHODS, get_method
+from ..methods.peers import fast_bilateral_solver_status
+from ..bench import report
 from ._common import params_dict
 
 #: Where ``--data`` points when it is not given (relative to the current folder).

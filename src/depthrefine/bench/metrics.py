@@ -1,0 +1,300 @@
+"""Error metrics of a depth map against ground truth, on a validity mask.
+
+All functions are pure and print nothing. Depth maps are float arrays in one
+unit (the ground truth's); ``NaN`` (and, in the ground truth, ``0`` or a
+negative value) marks "no measurement". Only pixels where the ground truth is
+valid *and* inside ``valid`` count. A prediction that is ``NaN`` on such a
+pixel is not scored but lowers :attr:`Scores.coverage`, so a method cannot
+look better by leaving hard pixels empty without it showing.
+
+The bad-pixel thresholds and the edge threshold are in *levels*; ``level`` is
+the size of one level in depth units (1 for the 8-bit maps of every benchmark
+protocol, so "bad > 1" means "off by more than one disparity level").
+
+References
+----------
+Errors as reported for guided depth upsampling: RMSE and MAE (Park et al.,
+ICCV 2011; Ferstl et al., ICCV 2013), bad-pixel percentages (Scharstein and
+Szeliski, IJCV 2002).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+__all__ = [
+    "Scores",
+    "score",
+    "valid_mask",
+    "depth_edges",
+    "edge_band",
+    "rmse",
+    "mae",
+    "bad_pixel_share",
+    "EDGE_THRESHOLD_LEVELS",
+    "EDGE_RADIUS",
+]
+
+#: A jump of at least this many levels between 4-neighbours is a depth edge.
+EDGE_THRESHOLD_LEVELS = 4.0
+#: Half-width, in pixels, of the band around depth edges (a 7-pixel band).
+EDGE_RADIUS = 3
+
+
+@dataclass(frozen=True)
+class Scores:
+    """Errors of one depth map against its ground truth.
+
+    Attributes
+    ----------
+    rmse : float
+        Root-mean-square error, depth units.
+    mae : float
+        Mean absolute error, depth units.
+    edge_rmse : float
+        RMSE within :data:`EDGE_RADIUS` pixels of a ground-truth depth edge
+        (NaN when the ground truth has no edge).
+    bad_1, bad_3 : float
+        Share (0..1) of scored pixels off by more than 1 and 3 levels.
+    coverage : float
+        Share (0..1) of the valid ground-truth pixels where the prediction is
+        finite (the pixels that were scored).
+    n_pixels : int
+        Number of scored pixels.
+    n_edge : int
+        Number of scored pixels in the edge band.
+    """
+
+    rmse: float
+    mae: float
+    edge_rmse: float
+    bad_1: float
+    bad_3: float
+    coverage: float
+    n_pixels: int
+    n_edge: int
+
+    def to_dict(self) -> dict[str, float | int]:
+        """The fields as a plain dict (for CSV rows)."""
+        return dataclasses.asdict(self)
+
+
+def _as_float(depth: np.ndarray, name: str) -> np.ndarray:
+    if not isinstance(depth, np.ndarray):
+        raise TypeError(f"{name} must be a numpy array; got {type(depth).__name__}.")
+    if depth.ndim != 2:
+        raise ValueError(f"{name} must be 2-D (rows, cols); got shape {depth.shape}.")
+    if depth.dtype.kind not in "uif":
+        raise TypeError(f"{name} has dtype {depth.dtype}; expected an integer or float depth map.")
+    return depth.astype(np.float64, copy=False)
+
+
+def _check_pair(depth_pred: np.ndarray, depth_gt: np.ndarray, valid: np.ndarray | None):
+    pred = _as_float(depth_pred, "depth_pred")
+    gt = _as_float(depth_gt, "depth_gt")
+    if pred.shape != gt.shape:
+        raise ValueError(
+            f"depth_pred has shape {pred.shape} but depth_gt has shape {gt.shape}; "
+            "score a prediction on the ground truth's grid (crop both the same way)."
+        )
+    mask = valid_mask(gt)
+    if valid is not None:
+        valid = np.asarray(valid)
+        if valid.shape != gt.shape or valid.dtype != bool:
+            raise ValueError(
+                f"valid must be a boolean array of shape {gt.shape}; got {valid.dtype} of shape {valid.shape}."
+            )
+        mask &= valid
+    return pred, gt, mask
+
+
+def valid_mask(depth_gt: np.ndarray, *, border: int = 0) -> np.ndarray:
+    """Pixels with a ground-truth measurement (finite and > 0), minus a border.
+
+    Parameters
+    ----------
+    depth_gt : (H, W) ndarray
+        Ground truth; 0, negative and NaN mean "no measurement".
+    border : int
+        Pixels dropped on each side (the 6-pixel crop of the Lu protocol).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+
+    Examples
+    --------
+    >>> valid_mask(np.array([[0, 1, 2, 3]] * 3, np.uint8), border=1).astype(int).tolist()
+    [[0, 0, 0, 0], [0, 1, 1, 0], [0, 0, 0, 0]]
+    """
+    gt = np.asarray(depth_gt, dtype=np.float64)
+    if border < 0:
+        raise ValueError(f"border must be >= 0 pixels; got {border}.")
+    with np.errstate(invalid="ignore"):
+        mask = np.isfinite(gt) & (gt > 0)
+    if border:
+        inner = np.zeros_like(mask)
+        inner[border:-border, border:-border] = True
+        mask &= inner
+    return mask
+
+
+def depth_edges(depth_gt: np.ndarray, *, threshold: float) -> np.ndarray:
+    """Pixels on either side of a depth jump of at least ``threshold``.
+
+    A pixel is an edge pixel when it and one of its 4-neighbours are both
+    valid and differ by ``threshold`` or more (depth units).
+
+    Examples
+    --------
+    >>> depth_edges(np.array([[10, 10, 50, 50]], np.float32), threshold=4).astype(int).tolist()
+    [[0, 1, 1, 0]]
+    """
+    gt = np.asarray(depth_gt, dtype=np.float64)
+    ok = valid_mask(gt)
+    edges = np.zeros(gt.shape, dtype=bool)
+    for axis in (0, 1):
+        a = [slice(None)] * 2
+        b = [slice(None)] * 2
+        a[axis], b[axis] = slice(None, -1), slice(1, None)
+        a, b = tuple(a), tuple(b)
+        with np.errstate(invalid="ignore"):
+            jump = ok[a] & ok[b] & (np.abs(gt[a] - gt[b]) >= threshold)
+        edges[a] |= jump
+        edges[b] |= jump
+    return edges
+
+
+def edge_band(depth_gt: np.ndarray, *, threshold: float, radius: int = EDGE_RADIUS) -> np.ndarray:
+    """Pixels within ``radius`` pixels (chessboard distance) of a depth edge.
+
+    Examples
+    --------
+    >>> edge_band(np.array([[10, 10, 10, 50, 50, 50]], np.float32), threshold=4, radius=1).astype(int).tolist()
+    [[0, 1, 1, 1, 1, 0]]
+    """
+    edges = depth_edges(depth_gt, threshold=threshold)
+    if radius <= 0:
+        return edges
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    return cv2.dilate(edges.astype(np.uint8), kernel) > 0
+
+
+def _errors(pred: np.ndarray, gt: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    scored = mask & np.isfinite(pred)
+    return pred[scored] - gt[scored]
+
+
+def rmse(depth_pred: np.ndarray, depth_gt: np.ndarray, *, valid: np.ndarray | None = None) -> float:
+    """Root-mean-square error over the scored pixels (NaN if there are none).
+
+    Examples
+    --------
+    >>> rmse(np.array([[1.0, 2.0]]), np.array([[1.0, 4.0]]))
+    1.4142135623730951
+    """
+    err = _errors(*_check_pair(depth_pred, depth_gt, valid))
+    return float(np.sqrt(np.mean(err * err))) if err.size else float("nan")
+
+
+def mae(depth_pred: np.ndarray, depth_gt: np.ndarray, *, valid: np.ndarray | None = None) -> float:
+    """Mean absolute error over the scored pixels (NaN if there are none).
+
+    Examples
+    --------
+    >>> mae(np.array([[1.0, 2.0]]), np.array([[1.0, 4.0]]))
+    1.0
+    """
+    err = _errors(*_check_pair(depth_pred, depth_gt, valid))
+    return float(np.mean(np.abs(err))) if err.size else float("nan")
+
+
+def bad_pixel_share(
+    depth_pred: np.ndarray, depth_gt: np.ndarray, *, threshold: float, valid: np.ndarray | None = None
+) -> float:
+    """Share (0..1) of scored pixels whose error exceeds ``threshold`` (strictly).
+
+    Examples
+    --------
+    >>> bad_pixel_share(np.array([[1.0, 2.0, 9.0, 4.0]]), np.array([[1.0, 3.0, 5.0, 4.0]]), threshold=1)
+    0.25
+    """
+    err = _errors(*_check_pair(depth_pred, depth_gt, valid))
+    return float(np.mean(np.abs(err) > threshold)) if err.size else float("nan")
+
+
+def score(
+    depth_pred: np.ndarray,
+    depth_gt: np.ndarray,
+    *,
+    valid: np.ndarray | None = None,
+    border: int = 0,
+    level: float = 1.0,
+    edge_threshold: float | None = None,
+    edge_radius: int = EDGE_RADIUS,
+) -> Scores:
+    """All the metrics of ``depth_pred`` against ``depth_gt``.
+
+    Parameters
+    ----------
+    depth_pred : (H, W) ndarray
+        Prediction, depth units; NaN = no value.
+    depth_gt : (H, W) ndarray
+        Ground truth, same units; 0, negative or NaN = no measurement.
+    valid : (H, W) bool ndarray, optional
+        Further restricts the scored pixels.
+    border : int
+        Pixels dropped on each side before scoring.
+    level : float
+        Depth units per level, for the bad-pixel and edge thresholds.
+    edge_threshold : float, optional
+        Depth jump (depth units) that makes an edge; default
+        :data:`EDGE_THRESHOLD_LEVELS` levels.
+    edge_radius : int
+        Half-width of the edge band, pixels.
+
+    Returns
+    -------
+    Scores
+
+    Raises
+    ------
+    ValueError, TypeError
+        Arrays that are not 2-D depth maps of the same shape.
+
+    Examples
+    --------
+    >>> gt = np.array([[10, 10, 50, 50]] * 4, np.float32)
+    >>> pred = gt + np.float32(2)
+    >>> s = score(pred, gt)
+    >>> s.rmse, s.mae, s.bad_1, s.bad_3, s.n_edge
+    (2.0, 2.0, 1.0, 0.0, 16)
+    """
+    if not level > 0:
+        raise ValueError(f"level must be > 0 depth units; got {level}.")
+    pred, gt, mask = _check_pair(depth_pred, depth_gt, valid)
+    if border:
+        mask &= valid_mask(gt, border=border)
+    n_valid = int(mask.sum())
+    scored = mask & np.isfinite(pred)
+    err = pred[scored] - gt[scored]
+    n = int(err.size)
+    threshold = EDGE_THRESHOLD_LEVELS * level if edge_threshold is None else float(edge_threshold)
+    band = edge_band(gt, threshold=threshold, radius=edge_radius)[scored]
+    err_edge = err[band]
+    abs_err = np.abs(err)
+    nan = float("nan")
+    return Scores(
+        rmse=float(np.sqrt(np.mean(err * err))) if n else nan,
+        mae=float(np.mean(abs_err)) if n else nan,
+        edge_rmse=float(np.sqrt(np.mean(err_edge * err_edge))) if err_edge.size else nan,
+        bad_1=float(np.mean(abs_err > 1.0 * level)) if n else nan,
+        bad_3=float(np.mean(abs_err > 3.0 * level)) if n else nan,
+        coverage=n / n_valid if n_valid else nan,
+        n_pixels=n,
+        n_edge=int(err_edge.size),
+    )

@@ -1,0 +1,81 @@
+"""Options of the commands that work with a rig (align, run, export-ply), defined once."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from typing import Any
+
+from ..io import ChainSettings, read_chain_settings
+from ..rig.chain import ALIGN_METHODS
+from ..rig.shift import COLOR_SIDES, ENCODINGS
+from . import CliError
+
+__all__ = ["add_units_options", "add_align_options", "chain_settings"]
+
+
+def add_units_options(p: argparse.ArgumentParser) -> None:
+    """--depth-units / --inverse-depth-scale: how depth values become metres."""
+    units = p.add_mutually_exclusive_group()
+    units.add_argument("--depth-units", type=float, metavar="M",
+                       help="metres per depth unit, for depth that grows with distance (0.001 for uint16 mm)")
+    units.add_argument("--inverse-depth-scale", type=float, metavar="C",
+                       help="for 8-bit depth intensity / disparity (larger = nearer): metres = C / value "
+                            "(255 at z_min metres: C = 255 * z_min)")
+
+
+def add_align_options(p: argparse.ArgumentParser, *, method_flag: str) -> None:
+    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value)."""
+    p.add_argument(method_flag, dest="align_method", choices=ALIGN_METHODS, default=None,
+                   help="alignment: reproject (calibrated, any rig; default) or shift (the thesis's "
+                        "horizontal shift: a parallel rig whose color image shows the depth camera's view; "
+                        "refused when the background would land more than 1 depth pixel off)")
+    add_units_options(p)
+    p.add_argument("--factor", type=int, metavar="S",
+                   help="reproject: scale factor s, the output is the color grid / s (default: focal-length ratio)")
+    p.add_argument("--radial", action="store_true", default=None,
+                   help="reproject: the depth is the distance along each ray, not Z")
+    p.add_argument("--slope", type=float, metavar="K",
+                   help="shift: k, the shift in depth pixels is k * (d - d_bg) for --encoding inverse (k in "
+                        "depth pixels per depth unit) and k * (1/D - 1/D_bg) for distance (k in depth pixels "
+                        "times depth units); default: from the rig and the depth units")
+    p.add_argument("--background", type=float, metavar="D",
+                   help="shift: background depth d_bg, which does not move (default: mean of the farther half)")
+    p.add_argument("--color-side", choices=COLOR_SIDES, default=None,
+                   help="shift: side of the color camera seen from behind (default: from the rig)")
+    p.add_argument("--encoding", choices=ENCODINGS, default=None,
+                   help="shift: inverse (depth intensity, larger = nearer) or distance (mm, m); default: "
+                        "distance with --depth-units, else inverse")
+    p.add_argument("--no-undistort", action="store_true",
+                   help="the depth map and color image are already undistorted: neither is resampled and "
+                        "the depth is aligned to the undistorted color camera")
+
+
+def chain_settings(args: argparse.Namespace) -> ChainSettings:
+    """The chain settings of ``--rig`` (and ``--settings``), with the command-line options on top."""
+    base = read_chain_settings(args.rig)
+    settings_file = getattr(args, "settings", None)
+    if settings_file:
+        extra = read_chain_settings(settings_file)
+        base = dataclasses.replace(extra, rig=base.rig or extra.rig,
+                                   rig_source=base.rig_source if base.rig is not None else extra.rig_source)
+    if base.rig is None:
+        raise CliError(f"{args.rig} holds no rig; give a rig file from `depthrefine calibrate-stereo`.")
+    overrides: dict[str, Any] = {}
+    for option, key in (("align_method", "method"), ("factor", "factor"), ("radial", "radial"),
+                        ("slope", "slope"), ("background", "background"), ("color_side", "color_side"),
+                        ("encoding", "encoding")):
+        value = getattr(args, option)
+        if value is not None:
+            overrides[key] = value
+    if args.depth_units is not None:
+        overrides.update(depth_units=args.depth_units, inverse_scale=None)
+    if args.inverse_depth_scale is not None:
+        overrides.update(inverse_scale=args.inverse_depth_scale, depth_units=None)
+    if args.no_undistort:
+        overrides.update(undistort_depth=False, undistort_color=False)
+    try:
+        align = dataclasses.replace(base.align, **overrides)
+    except (TypeError, ValueError) as exc:
+        raise CliError(f"alignment settings: {exc}") from None
+    return dataclasses.replace(base, align=align)

@@ -1,0 +1,16 @@
+"""Upsampling methods and the registry that :func:`depthrefine.refine` looks up.
+
+- ``registry``   :data:`METHODS`, :func:`register_method`, :func:`get_method`, :func:`refine`
+- ``baselines``  nearest, bilinear, bicubic enlargement
+- ``peers``      OpenCV-contrib guided filters as methods: jbf, guided, fgs, wmf (fbs where it works)
+- ``scale``      the thesis's scale step for non-integer ratios (applied by every method's caller)
+- ``thesis``     the thesis method (chapter 4): parameters, color segmentation, the refinement
+
+A new method is a module here with a function
+``func(depth_lr, rgb_hr, *, params=None, progress=None) -> depth_hr`` and one
+:func:`register_method` call in ``registry``.
+"""
+
+from .registry import METHODS, Method, get_method, refine, register_method
+
+__all__ = ["METHODS", "Method", "get_method", "refine", "register_method"]

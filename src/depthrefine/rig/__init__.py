@@ -1,0 +1,65 @@
+"""Two cameras to one pixel grid (thesis chapter 3): models, calibration, undistortion, alignment.
+
+- ``camera``      :class:`CameraModel` (pinhole + distortion) and :class:`StereoRig` (depth -> color)
+- ``boards``      calibration boards: corner coordinates and detection
+- ``calibrate``   single-camera and stereo calibration from board views
+- ``undistort``   undistortion of depth maps and color images (spec step 1)
+- ``shift``       the thesis's horizontal shift alignment (spec step 3)
+- ``reproject``   calibrated reprojection of depth into the color camera
+- ``pointcloud``  metric depth, back-projection, projection, colored point clouds
+- ``chain``       the settings-driven chain: undistort + align a raw depth + color pair
+
+Everything here is pure (arrays in, arrays out); files are read by :mod:`depthrefine.io`.
+"""
+
+from .camera import CameraModel, StereoRig, check_camera_shape
+from .boards import board_points, to_gray8, find_board_corners
+from .calibrate import MIN_VIEWS, calibrate_from_corners, calibrate_camera, calibrate_stereo_from_corners, calibrate_stereo
+from .undistort import undistort_maps, distort_maps, undistort_depth, undistort_image, distort_depth, distort_image
+from .shift import COLOR_SIDES, ENCODINGS, MAX_PARALLEL_ROTATION, MAX_SHIFT_MISREGISTRATION, AlignmentWarning, background_depth, align_shift, ShiftModel, shift_from_rig, shift_misregistration
+from .reproject import reproject_camera, align_reproject
+from .pointcloud import depth_to_metres, metres_to_depth, pixel_rays, backproject, project_points, depth_to_points
+from .chain import ALIGN_METHODS, AlignSettings, AlignedPair, align_depth, align_pair
+
+__all__ = [
+    "CameraModel",
+    "StereoRig",
+    "check_camera_shape",
+    "board_points",
+    "to_gray8",
+    "find_board_corners",
+    "MIN_VIEWS",
+    "calibrate_from_corners",
+    "calibrate_camera",
+    "calibrate_stereo_from_corners",
+    "calibrate_stereo",
+    "undistort_maps",
+    "distort_maps",
+    "undistort_depth",
+    "undistort_image",
+    "distort_depth",
+    "distort_image",
+    "COLOR_SIDES",
+    "ENCODINGS",
+    "MAX_PARALLEL_ROTATION",
+    "MAX_SHIFT_MISREGISTRATION",
+    "AlignmentWarning",
+    "background_depth",
+    "align_shift",
+    "ShiftModel",
+    "shift_from_rig",
+    "shift_misregistration",
+    "reproject_camera",
+    "align_reproject",
+    "depth_to_metres",
+    "metres_to_depth",
+    "pixel_rays",
+    "backproject",
+    "project_points",
+    "depth_to_points",
+    "ALIGN_METHODS",
+    "AlignSettings",
+    "AlignedPair",
+    "align_depth",
+    "align_pair",
+]

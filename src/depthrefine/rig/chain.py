@@ -1,0 +1,294 @@
+"""The chain: raw captures -> a registered low-resolution depth + color pair.
+
+Two alignments bring the depth map onto the color image's grid, both
+returning a *low-resolution* depth map for :func:`depthrefine.refine`, which
+spreads depth pixel ``(i, j)`` to color pixel ``(i*s + s//2, j*s + s//2)``:
+``shift`` (the thesis, :mod:`depthrefine.rig.shift`) and ``reproject``
+(calibrated reprojection, :mod:`depthrefine.rig.reproject`). The chain
+undistorts (:mod:`depthrefine.rig.undistort`), aligns, and says what it did.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validate import check_choice, check_depth, check_number, check_rgb
+from .camera import CameraModel, StereoRig, check_camera_shape
+from .reproject import align_reproject, reproject_camera
+from .shift import (COLOR_SIDES, ENCODINGS, MAX_SHIFT_MISREGISTRATION, align_shift, background_depth, shift_from_rig, shift_misregistration)
+from .undistort import undistort_depth, undistort_image
+
+__all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair"]
+
+
+
+#: Alignment methods of :func:`align_pair` (keys of the chain settings' ``method``).
+ALIGN_METHODS = ("reproject", "shift")
+
+
+@dataclass(frozen=True)
+class AlignSettings:
+    """How to bring a raw depth map onto the color image's grid (the ``[align]`` table).
+
+    Attributes
+    ----------
+    method : {"reproject", "shift"}
+        Calibrated reprojection, or the thesis's horizontal shift.
+    depth_units : float, optional
+        Metres per depth unit (depth grows with distance, e.g. 0.001 for mm).
+    inverse_scale : float, optional
+        ``metres = inverse_scale / value`` (8-bit depth intensity, disparity).
+        ``reproject`` needs one of the two; ``shift`` needs one only to
+        estimate ``slope`` from the rig.
+    factor : int, optional
+        ``reproject``: the scale factor ``s`` (default: focal-length ratio).
+    radial : bool
+        ``reproject``: depth is the distance along the ray, not ``Z``.
+    undistort_depth : bool
+        Undo the depth camera's lens distortion (spec step 1); false: the
+        depth map is already undistorted.
+    undistort_color : bool
+        Undo the color camera's distortion (the thesis's lens has none; a
+        rig calibrated with zero distortion leaves the image unchanged);
+        false: the color image is already undistorted, so it is used as it
+        is and the depth is aligned to the undistorted color camera.
+    slope : float, optional
+        ``shift``: ``k`` (default: from the rig, :func:`shift_from_rig`).
+    background : float, optional
+        ``shift``: ``d_bg`` in depth units (default: :func:`background_depth`).
+    color_side : {"right", "left"}, optional
+        ``shift``: default from the rig's translation, else ``"right"``.
+    encoding : {"inverse", "distance"}, optional
+        ``shift``: default ``"distance"`` when ``depth_units`` is given,
+        else ``"inverse"`` (the thesis's depth intensity).
+    """
+
+    method: str = "reproject"
+    depth_units: float | None = None
+    inverse_scale: float | None = None
+    factor: int | None = None
+    radial: bool = False
+    undistort_depth: bool = True
+    undistort_color: bool = True
+    slope: float | None = None
+    background: float | None = None
+    color_side: str | None = None
+    encoding: str | None = None
+
+    def __post_init__(self) -> None:
+        check_choice("method", self.method, ALIGN_METHODS)
+        if self.depth_units is not None and self.inverse_scale is not None:
+            raise ValueError("give either depth_units or inverse_scale, not both.")
+        for name in ("depth_units", "inverse_scale", "background"):
+            if getattr(self, name) is not None:
+                check_number(name, getattr(self, name), positive=True)
+        if self.slope is not None:
+            check_number("slope", self.slope, nonnegative=True)
+        if self.factor is not None and (isinstance(self.factor, bool) or not isinstance(self.factor, int)
+                                        or self.factor < 1):
+            raise ValueError(f"factor must be an integer >= 1; got {self.factor!r}.")
+        for name in ("radial", "undistort_depth", "undistort_color"):
+            if not isinstance(getattr(self, name), bool):
+                raise TypeError(f"{name} must be true or false; got {getattr(self, name)!r}.")
+        if self.color_side is not None:
+            check_choice("color_side", self.color_side, COLOR_SIDES)
+        if self.encoding is not None:
+            check_choice("encoding", self.encoding, ENCODINGS)
+
+    def to_dict(self) -> dict[str, Any]:
+        """All fields (``None`` for unset ones)."""
+        return asdict(self)
+
+
+@dataclass(frozen=True, eq=False)
+class AlignedPair:
+    """A registered pair ready for :func:`depthrefine.refine`.
+
+    Attributes
+    ----------
+    depth_lr : (h', w') float32 ndarray
+        Depth on the color image's grid divided by ``s``, input units, NaN = invalid.
+    rgb_hr : (H, W, 3) ndarray
+        The color image (undistorted if asked), input dtype.
+    camera : CameraModel
+        The camera of ``rgb_hr``'s grid (for point clouds of the refined map).
+    method : str
+        The alignment used.
+    notes : tuple of str
+        What each step did, one line each, for the user.
+    """
+
+    depth_lr: np.ndarray
+    rgb_hr: np.ndarray
+    camera: CameraModel
+    method: str
+    notes: tuple[str, ...]
+
+
+def align_depth(
+    depth_raw: np.ndarray, rig: StereoRig, *, settings: AlignSettings | None = None
+) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Undistort and align a raw depth map with a calibrated rig (spec steps 1 and 3).
+
+    Parameters
+    ----------
+    depth_raw : (h, w) ndarray
+        The depth camera's raw map, any units; 0 / NaN = invalid. Its shape
+        must be the rig's depth camera's.
+    rig : StereoRig
+    settings : AlignSettings, optional
+        Defaults: ``AlignSettings()`` (reprojection, which needs depth units).
+
+    Returns
+    -------
+    depth_lr : float32 ndarray
+        Depth for the *undistorted* color image (``reproject``: on its grid
+        divided by ``s``; ``shift``: on the depth map's own grid, which the
+        refinement stretches over the color image), input units, NaN =
+        invalid. With a color lens that has distortion, refine against the
+        undistorted color image (:func:`undistort_image`), as
+        :func:`align_pair` does.
+    notes : tuple of str
+        What each step did, one line each.
+
+    Raises
+    ------
+    ValueError
+        A depth size that differs from the rig's, missing depth units,
+        settings the method cannot use, or a rig on which the shift would
+        misplace the background by more than one depth pixel
+        (:func:`shift_misregistration`).
+    """
+    settings = AlignSettings() if settings is None else settings
+    if not isinstance(settings, AlignSettings):
+        raise TypeError(f"settings must be AlignSettings; got {type(settings).__name__}.")
+    if not isinstance(rig, StereoRig):
+        raise TypeError(f"rig must be a StereoRig; got {type(rig).__name__}.")
+    check_depth(depth_raw, "depth")
+    check_camera_shape(depth_raw.shape, rig.depth_camera, "the depth map")
+    notes: list[str] = []
+    depth_lr = _CHAIN_ALIGNERS[settings.method](depth_raw, rig, settings, notes)
+    return depth_lr, tuple(notes)
+
+
+def align_pair(
+    depth_raw: np.ndarray, rgb_raw: np.ndarray, rig: StereoRig, *, settings: AlignSettings | None = None
+) -> AlignedPair:
+    """Undistort and align a raw depth map and color image with a calibrated rig (spec steps 1-3).
+
+    The scale step (spec step 2) follows in :func:`depthrefine.refine`,
+    which finds the integer factor between ``depth_lr`` and ``rgb_hr`` and
+    resizes the color bilinearly when the ratio is not an integer.
+
+    Parameters
+    ----------
+    depth_raw : (h, w) ndarray
+        The depth camera's raw map, any units; 0 / NaN = invalid.
+    rgb_raw : (H, W, 3) ndarray
+        The color camera's raw image (RGB).
+    rig : StereoRig
+    settings : AlignSettings, optional
+        Defaults: ``AlignSettings()`` (reprojection, which needs depth units).
+
+    Returns
+    -------
+    AlignedPair
+
+    Raises
+    ------
+    ValueError
+        Image sizes that differ from the rig's, missing depth units, or
+        settings the method cannot use.
+    """
+    settings = AlignSettings() if settings is None else settings
+    if not isinstance(rig, StereoRig):
+        raise TypeError(f"rig must be a StereoRig; got {type(rig).__name__}.")
+    rgb = check_rgb(rgb_raw, "color image")
+    check_camera_shape(rgb.shape, rig.color_camera, "the color image")
+    depth_lr, depth_notes = align_depth(depth_raw, rig, settings=settings)
+    color_cam = rig.color_camera
+    notes = []
+    if _undistorts_color(rig, settings):
+        rgb = undistort_image(rgb, color_cam)
+        notes.append("color image undistorted (bilinear)")
+    elif color_cam.has_distortion:
+        notes.append("color image taken as already undistorted")
+    return AlignedPair(depth_lr, rgb, color_cam.without_distortion(), settings.method,
+                       tuple(notes) + depth_notes)
+
+
+def _undistorts_color(rig: StereoRig, settings: AlignSettings) -> bool:
+    return settings.undistort_color and rig.color_camera.has_distortion
+
+
+def _chain_reproject(depth_raw, rig, settings, notes) -> np.ndarray:
+    if settings.depth_units is None and settings.inverse_scale is None:
+        raise ValueError(
+            "the reproject alignment needs the depth's units: depth_units (--depth-units; metres per unit, "
+            "e.g. 0.001 for uint16 mm) or, for 8-bit depth intensity (larger = nearer), inverse_scale "
+            "(--inverse-depth-scale) with metres = inverse_scale / value; or use the shift alignment."
+        )
+    s, grid = reproject_camera(rig, factor=settings.factor)
+    out = align_reproject(
+        depth_raw, rig, depth_units=settings.depth_units, inverse_scale=settings.inverse_scale,
+        factor=s, radial=settings.radial, depth_distorted=settings.undistort_depth, color_distorted=False,
+    )
+    w, h = grid.image_size
+    notes.append(f"depth reprojected into the color camera ({w}x{h} grid, s = {s}, z-buffer"
+                 f"{', depth lens distortion undone' if settings.undistort_depth else ''})")
+    return out
+
+
+def _chain_shift(depth_raw, rig, settings, notes) -> np.ndarray:
+    depth = depth_raw
+    if settings.undistort_depth and rig.depth_camera.has_distortion:
+        depth = undistort_depth(depth_raw, rig.depth_camera)
+        notes.append("depth undistorted (nearest)")
+    encoding = settings.encoding or ("distance" if settings.depth_units is not None else "inverse")
+    slope, color_side = settings.slope, settings.color_side
+    if slope is None or color_side is None:
+        if settings.depth_units is None and settings.inverse_scale is None:
+            if slope is None:
+                raise ValueError(
+                    "the shift alignment needs its slope: give slope (--slope; depth pixels per depth unit), "
+                    "or the depth's units (--depth-units or --inverse-depth-scale) to compute it from the rig."
+                )
+            color_side = "right" if rig.color_centre[0] >= 0 else "left"
+        else:
+            model = shift_from_rig(rig, depth_units=settings.depth_units, inverse_scale=settings.inverse_scale)
+            if model.encoding != encoding:
+                raise ValueError(
+                    f"encoding {encoding!r} does not match the units given "
+                    f"({'depth_units' if model.encoding == 'distance' else 'inverse_scale'} implies "
+                    f"{model.encoding!r})."
+                )
+            slope = model.slope if slope is None else slope
+            color_side = model.color_side if color_side is None else color_side
+    background = settings.background
+    if background is None:
+        background = background_depth(depth, encoding=encoding)
+    z_background = None  # metres, when the units say so; else the check looks at infinity
+    if encoding == "distance" and settings.depth_units is not None:
+        z_background = background * settings.depth_units
+    elif encoding == "inverse" and settings.inverse_scale is not None:
+        z_background = settings.inverse_scale / background
+    error = shift_misregistration(rig, depth.shape, rig.color_camera.shape, z_background)
+    if error > MAX_SHIFT_MISREGISTRATION:
+        at = f"{z_background:.3g} m" if z_background is not None else "infinity (depth units unknown)"
+        raise ValueError(
+            f"the shift alignment would misplace the depth by {error:.1f} depth pixels on this rig (the color "
+            f"image does not show the depth camera's field of view: different focal lengths, principal points "
+            f"or a rotation; checked at the background, {at}); use the reproject alignment (the default: "
+            f"--align reproject in run, --method reproject in align) or crop the color image to the depth "
+            f"camera's view."
+        )
+    out = align_shift(depth, slope=slope, background=background, color_side=color_side, encoding=encoding)
+    notes.append(f"depth shifted horizontally (thesis eq. 1): k = {slope:.6g}, d_bg = {background:.6g}, "
+                 f"color camera on the {color_side}, {encoding} depth")
+    return out
+
+
+_CHAIN_ALIGNERS = {"reproject": _chain_reproject, "shift": _chain_shift}

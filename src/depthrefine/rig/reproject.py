@@ -1,0 +1,202 @@
+"""Calibrated reprojection of depth into the color camera (beyond the thesis).
+
+For calibrated rigs that need not be parallel: back-project each depth pixel
+with the depth camera's intrinsics (undoing its lens distortion), move it with
+``R, t``, project it into the color camera and keep the nearest point per
+pixel (z-buffer), like ``cv2.registerDepth``. It renders into a color-camera
+grid of ``(round(H / s), round(W / s))`` pixels whose intrinsics are the color
+camera's scaled to that grid, ``s`` defaulting to the focal-length ratio
+(about one depth sample per grid pixel). Each depth pixel writes every grid
+pixel its footprint covers (its angular size through the lens, times the
+depth ratio), so a surface seen slightly magnified has no gaps for the
+background to show through (``cv2.registerDepth`` writes one pixel per sample
+and has them). An empty pixel between two opposite samples takes the farther
+one; wider disocclusions stay invalid (NaN) and are filled by the refinement.
+The values are the depth along the *color* camera's axis, in the input's
+units. Invalid depth (NaN / 0) stays invalid and is never filled here.
+"""
+
+from __future__ import annotations
+
+
+import numpy as np
+
+from .._fill import fill_invalid_nearest
+from .._validate import as_depth
+from .camera import CameraModel, StereoRig, check_camera_shape
+from .pointcloud import _conversion, _metres64, metres_to_depth, pixel_rays, project_points
+from .shift import _zbuffer
+
+__all__ = ["reproject_camera", "align_reproject"]
+
+
+
+def reproject_camera(rig: StereoRig, *, factor: int | None = None, distorted: bool = False) -> tuple[int, CameraModel]:
+    """The factor ``s`` and the low-resolution color-camera grid :func:`align_reproject` renders into.
+
+    Parameters
+    ----------
+    rig : StereoRig
+    factor : int, optional
+        ``s``; default ``round(f_color / f_depth)`` (mean of x and y), at least
+        1: one depth sample per grid pixel.
+    distorted : bool
+        Keep the color camera's distortion (grid of a raw color image).
+
+    Returns
+    -------
+    s : int
+    camera : CameraModel
+        The color camera resized to ``(round(H / s), round(W / s))``.
+
+    Examples
+    --------
+    >>> d = CameraModel(np.array([[100., 0, 43.5], [0, 100., 35.5], [0, 0, 1]]), np.zeros(5), (88, 72))
+    >>> c = CameraModel(np.array([[700., 0, 307.5], [0, 700., 251.5], [0, 0, 1]]), np.zeros(5), (616, 504))
+    >>> s, grid = reproject_camera(StereoRig(d, c, np.eye(3), np.zeros(3)))
+    >>> s, grid.image_size, grid.K[0].tolist()
+    (7, (88, 72), [100.0, 0.0, 43.5])
+    """
+    color = rig.color_camera
+    if factor is None:
+        ratio = np.mean(np.array(color.focal) / np.array(rig.depth_camera.focal))
+        factor = max(1, int(np.floor(ratio + 0.5)))
+    elif isinstance(factor, bool) or not isinstance(factor, (int, np.integer)) or factor < 1:
+        raise ValueError(f"factor must be an integer >= 1; got {factor!r}.")
+    rows, cols = color.shape
+    grid = (max(1, int(np.floor(rows / factor + 0.5))), max(1, int(np.floor(cols / factor + 0.5))))
+    camera = color.resized(grid)
+    return int(factor), (camera if distorted else camera.without_distortion())
+
+
+def align_reproject(
+    depth: np.ndarray,
+    rig: StereoRig,
+    *,
+    depth_units: float | None = None,
+    inverse_scale: float | None = None,
+    factor: int | None = None,
+    radial: bool = False,
+    depth_distorted: bool = True,
+    color_distorted: bool = False,
+) -> np.ndarray:
+    """Reproject a depth map into the color camera (calibrated alignment, z-buffered).
+
+    Parameters
+    ----------
+    depth : (h, w) ndarray
+        The depth camera's depth map, any units (see ``depth_units``); 0 /
+        NaN = invalid. Its shape must be the rig's depth camera's.
+    rig : StereoRig
+        From ``depthrefine calibrate-stereo``.
+    depth_units, inverse_scale : float
+        Exactly one: metres per depth unit (0.001 for uint16 mm), or
+        ``metres = inverse_scale / value`` for 8-bit depth intensity /
+        disparity (see :mod:`depthrefine.rig.pointcloud`). Without it the depth
+        cannot be placed in 3-D: ``ValueError``.
+    factor : int, optional
+        ``s`` (see :func:`reproject_camera`).
+    radial : bool
+        The depth is the distance along each pixel's ray, not ``Z``.
+    depth_distorted : bool
+        ``depth`` is the raw map (undo the depth camera's distortion while
+        back-projecting: no resampling). False if it is already undistorted.
+    color_distorted : bool
+        Render for the raw color image (apply the color camera's distortion).
+        False (default) renders for the undistorted color image.
+
+    Returns
+    -------
+    (round(H / s), round(W / s)) float32 ndarray
+        Depth along the color camera's optical axis, in the input's units,
+        on the color image's grid divided by ``s``; NaN = no depth (invalid
+        input, disocclusion, outside the depth camera's view).
+
+    Notes
+    -----
+    z-buffer: the nearest point wins each grid pixel; every depth pixel
+    writes its footprint (see the module docstring); then an empty pixel
+    between two opposite samples takes the farther one.
+
+    Examples
+    --------
+    Two identical cameras at one place: the map is unchanged.
+
+    >>> cam = CameraModel(np.array([[50., 0, 3.5], [0, 50., 3.5], [0, 0, 1]]), np.zeros(5), (8, 8))
+    >>> depth = np.full((8, 8), 1500, np.uint16)
+    >>> out = align_reproject(depth, StereoRig(cam, cam, np.eye(3), np.zeros(3)), depth_units=0.001)
+    >>> out.shape, float(out[3, 3])
+    ((8, 8), 1500.0)
+    """
+    if not isinstance(rig, StereoRig):
+        raise TypeError(f"rig must be a StereoRig; got {type(rig).__name__}.")
+    _conversion(depth_units, inverse_scale)
+    d = as_depth(depth, "depth")
+    check_camera_shape(d.shape, rig.depth_camera, "depth")
+    _, grid = reproject_camera(rig, factor=factor, distorted=color_distorted)
+    rows_t, cols_t = grid.shape
+
+    z = _metres64(d, depth_units, inverse_scale)
+    valid = np.isfinite(z).ravel()
+    z = fill_invalid_nearest(z)  # invalid pixels travel with their nearest valid neighbour
+    rays = pixel_rays(rig.depth_camera, distorted=depth_distorted).reshape(-1, 2)
+    z = z.ravel()
+    if radial:
+        z = z / np.sqrt(1.0 + rays[:, 0] ** 2 + rays[:, 1] ** 2)
+    points = np.column_stack([rays[:, 0] * z, rays[:, 1] * z, z]) @ rig.R.T + rig.t
+    front = np.flatnonzero(points[:, 2] > 1e-9)
+    uv = project_points(points[front], grid, distorted=color_distorted)
+    z_color = points[:, 2]
+    # Footprint: a depth pixel spans d(ray)/d(col) + d(ray)/d(row) in normalized coordinates (its lens
+    # included), i.e. about f_grid * span * Z_depth / Z_color grid pixels; it writes every grid pixel whose
+    # centre lies within half of that (at least its own pixel), so that no gap opens inside a surface.
+    span = _ray_span(rays.reshape(d.shape + (2,)), rig.depth_camera).reshape(-1, 2)[front]
+    focal_grid = np.array([grid.K[0, 0], grid.K[1, 1]])
+    half = np.maximum(span * focal_grid * (z[front] / z_color[front])[:, None], 1.0) / 2.0
+    reach = int(np.ceil(np.nanmax(half))) if half.size else 0
+    sources, targets = [], []
+    for d_row in range(-reach, reach + 1):
+        for d_col in range(-reach, reach + 1):
+            col = np.floor(uv[:, 0] + 0.5) + d_col
+            row = np.floor(uv[:, 1] + 0.5) + d_row
+            inside = (np.abs(col - uv[:, 0] - 1e-9) < half[:, 0]) & (np.abs(row - uv[:, 1] - 1e-9) < half[:, 1])
+            inside &= (col >= 0) & (col < cols_t) & (row >= 0) & (row < rows_t)
+            sources.append(front[inside])
+            targets.append(row[inside].astype(np.int64) * cols_t + col[inside].astype(np.int64))
+    source = np.concatenate(sources)
+    target = np.concatenate(targets)
+    priority = np.where(valid[source], -z_color[source], -np.inf)  # nearest wins; invalid loses
+    target, source = _zbuffer(target, priority, source)
+
+    out = np.full(rows_t * cols_t, np.nan)
+    landed = np.zeros(rows_t * cols_t, dtype=bool)
+    out[target] = np.where(valid[source], z_color[source], np.nan)
+    landed[target] = True
+    out = out.reshape(rows_t, cols_t)
+    _close_pinholes(out, ~landed.reshape(rows_t, cols_t))
+    return metres_to_depth(out, depth_units=depth_units, inverse_scale=inverse_scale)
+
+
+def _ray_span(rays: np.ndarray, camera: CameraModel) -> np.ndarray:
+    """(rows, cols, 2): how far, in normalized x and y, one pixel of the camera reaches."""
+    rows, cols = rays.shape[:2]
+    if rows < 2 or cols < 2:
+        return np.broadcast_to(1.0 / np.array(camera.focal), rays.shape).copy()
+    return np.abs(np.gradient(rays, axis=1)) + np.abs(np.gradient(rays, axis=0))
+
+
+def _close_pinholes(z: np.ndarray, empty: np.ndarray) -> None:
+    """Fill, in place, empty pixels between two opposite samples with the farther of them.
+
+    Opposite: left/right, up/down or either diagonal. A gap between samples
+    of one surface closes; a disocclusion (samples on one side only) stays.
+    """
+    pad = np.pad(z, 1, constant_values=np.nan)
+    farther = np.full(z.shape, np.nan)
+    for (r0, c0), (r1, c1) in (((1, 0), (1, 2)), ((0, 1), (2, 1)), ((0, 0), (2, 2)), ((0, 2), (2, 0))):
+        a = pad[r0:r0 + z.shape[0], c0:c0 + z.shape[1]]
+        b = pad[r1:r1 + z.shape[0], c1:c1 + z.shape[1]]
+        both = np.isfinite(a) & np.isfinite(b)
+        farther = np.fmax(farther, np.where(both, np.fmax(a, b), np.nan))
+    fill = empty & np.isfinite(farther)
+    z[fill] = farther[fill]
