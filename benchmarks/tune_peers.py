@@ -31,7 +31,7 @@ from pathlib import Path
 
 from depthrefine.methods import peers
 from depthrefine.bench import TUNING_SCENES, mean_or_nan, run_benchmark, tuned_on_scenes
-from depthrefine.io import load_cases
+from depthrefine.bench import load_cases
 
 #: The protocols whose tuning scenes are used (one noisy, one noise-free).
 TUNING_PROTOCOLS = ("park", "middlebury30")

@@ -16,7 +16,8 @@ from depthrefine.bench import (
 )
 from depthrefine.cli import main
 from depthrefine.evaluate import score
-from depthrefine.io import InputFileError, load_cases
+from depthrefine.bench import load_cases
+from depthrefine.io import InputFileError
 
 from conftest import shared_data_path as _shared
 

@@ -38,13 +38,13 @@ from depthrefine.methods.scale import plan_scale
 N_EXAMPLES = int(os.environ.get("DEPTHREFINE_FUZZ_EXAMPLES", "3000"))
 
 #: Methods whose output is a convex combination of valid input depths (or clipped to their range).
-CONVEX = {"thesis", "nearest", "bilinear", "bicubic"}
+CONVEX = {name for name, m in METHODS.items() if m.interpolating}
 
 #: Known to break "same input, bit-identical output" (found by this fuzzing): OpenCV-contrib's
 #: ``ximgproc.weightedMedianFilter`` returns different values run to run on the same input
 #: (22 % of the pixels of a 40 x 36 image, by up to 84 % of the depth range, even with one thread).
 #: Everything else is still checked for them.
-NONDETERMINISTIC = {"wmf"}
+NONDETERMINISTIC = {name for name, m in METHODS.items() if not m.deterministic}
 
 DEPTH_DTYPES = (np.uint8, np.uint16, np.float32, np.float64)
 SPECIAL = (0.0, np.nan, np.inf, -np.inf, -1.0)

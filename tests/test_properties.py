@@ -42,9 +42,9 @@ METHOD_NAMES = st.sampled_from(sorted(METHODS))
 #: values for the same noisy float input (20 distinct outputs in 20 calls on a 24 x 36 image
 #: in one process, identical ones in another: it looks like a read of uninitialised memory).
 #: Left out of the determinism properties until the peer is made deterministic.
-KNOWN_NONDETERMINISTIC = {"wmf"}
+KNOWN_NONDETERMINISTIC = {name for name, m in METHODS.items() if not m.deterministic}
 DETERMINISTIC_NAMES = st.sampled_from(sorted(set(METHODS) - KNOWN_NONDETERMINISTIC))
-INTERPOLATING_NAMES = ("thesis", "nearest", "bilinear", "bicubic")
+INTERPOLATING_NAMES = tuple(sorted(name for name, m in METHODS.items() if m.interpolating))
 INTERPOLATING = st.sampled_from(INTERPOLATING_NAMES)
 #: Values that mean "no measurement" in a float depth map.
 SENTINELS = st.sampled_from([0.0, np.nan, np.inf, -np.inf, -1e30])

@@ -19,7 +19,7 @@ __all__ = [
     "as_depth",
     "check_depth",
     "check_rgb",
-    "check_positive_int",
+    "check_int",
     "check_choice",
     "is_int",
     "check_number",
@@ -138,15 +138,6 @@ def as_rgb_float(rgb: np.ndarray) -> np.ndarray:
     return rgb.astype(np.float32, copy=True)
 
 
-def check_positive_int(value: object, name: str) -> int:
-    """An integer >= 1 (bools rejected)."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer; got {value!r}.")
-    if value < 1:
-        raise ValueError(f"{name} must be >= 1; got {value}.")
-    return int(value)
-
-
 # ----------------------------------------------------------------------------
 # Memory guard
 # ----------------------------------------------------------------------------
@@ -186,7 +177,7 @@ def pixel_limit(max_pixels: int | None) -> Iterator[None]:
     every image it reads and every library call it makes. ``None`` keeps the
     memory-derived limit only.
     """
-    token = _MAX_PIXELS.set(None if max_pixels is None else check_positive_int(max_pixels, "max_pixels"))
+    token = _MAX_PIXELS.set(None if max_pixels is None else check_int("max_pixels", max_pixels, minimum=1))
     try:
         yield
     finally:
@@ -230,7 +221,7 @@ def check_pixels(
     """
     rows, cols = int(shape[0]), int(shape[1])
     n = rows * cols
-    limit = _MAX_PIXELS.get() if max_pixels is None else check_positive_int(max_pixels, "max_pixels")
+    limit = _MAX_PIXELS.get() if max_pixels is None else check_int("max_pixels", max_pixels, minimum=1)
     if limit is not None and n > limit:
         raise ValueError(
             f"{name} is {cols}x{rows} = {n:,} pixels, more than the limit of {limit:,} "
@@ -273,3 +264,12 @@ def check_number(name: str, value: Any, *, positive: bool = False, nonnegative: 
 def is_int(value: Any) -> bool:
     """Whether ``value`` is an integer (Python or NumPy), not a bool."""
     return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+def check_int(name: str, value: Any, *, minimum: int | None = None) -> int:
+    """``value`` as an int (Python or NumPy integer; ``TypeError`` otherwise, bools too), ``>= minimum``."""
+    if not is_int(value):
+        raise TypeError(f"{name} must be an integer; got {value!r} ({type(value).__name__}).")
+    if minimum is not None and value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}; got {value}.")
+    return int(value)

@@ -3,58 +3,47 @@
 - ``metrics``    error metrics against ground truth (RMSE, MAE, edge RMSE, bad pixels)
 - ``simulate``   a simulated low-resolution ToF sensor (our model) from ground truth
 - ``synthetic``  generated scenes with known ground truth, for tests
-- ``runner``     protocols, cases, tuning scenes; runs methods x cases and scores them
+- ``protocols``  the protocol registry: datasets, case builders, tuning scenes, published rows
+- ``runner``     runs methods x cases and scores them
 - ``report``     tables, figures and the HTML report
 
-Files are read by :mod:`depthrefine.io` (``load_cases``); this package is pure.
+The files are read by :mod:`depthrefine.io` (the readers each protocol names).
 """
 
-from .runner import (
-    PROTOCOLS,
-    DEFAULT_SCALES,
-    TUNING_SCENES,
+from .protocols import (
     LEFT_OUT_WHY,
-    left_out_reason,
-    tuned_on_scenes,
     LU_BORDER,
-    BenchCase,
-    BenchRow,
-    BenchResult,
-    ROW_FIELDS,
-    METRICS,
+    PROTOCOLS,
+    TUNING_SCENES,
+    Protocol,
     bicubic_downsample,
     crop_to_multiple,
-    park_case,
+    get_protocol,
+    left_out_reason,
+    load_cases,
     lu_case,
+    park_case,
+    register_protocol,
     tof_case,
     tof_seed,
-    run_benchmark,
-    parse_scales,
-    mean_or_nan,
+    tuned_on_scenes,
+)
+from .runner import (
+    DEFAULT_SCALES,
+    METRICS,
+    ROW_FIELDS,
+    BenchCase,
+    BenchResult,
+    BenchRow,
     mean_and_count,
+    mean_or_nan,
+    parse_scales,
+    run_benchmark,
 )
 
 __all__ = [
-    "PROTOCOLS",
-    "DEFAULT_SCALES",
-    "TUNING_SCENES",
-    "LEFT_OUT_WHY",
-    "left_out_reason",
-    "tuned_on_scenes",
-    "LU_BORDER",
-    "BenchCase",
-    "BenchRow",
-    "BenchResult",
-    "ROW_FIELDS",
-    "METRICS",
-    "bicubic_downsample",
-    "crop_to_multiple",
-    "park_case",
-    "lu_case",
-    "tof_case",
-    "tof_seed",
-    "run_benchmark",
-    "parse_scales",
-    "mean_or_nan",
-    "mean_and_count",
+    "Protocol", "PROTOCOLS", "register_protocol", "get_protocol", "load_cases", "TUNING_SCENES", "LEFT_OUT_WHY",
+    "left_out_reason", "tuned_on_scenes", "LU_BORDER", "bicubic_downsample", "crop_to_multiple", "park_case",
+    "lu_case", "tof_case", "tof_seed", "DEFAULT_SCALES", "METRICS", "ROW_FIELDS", "BenchCase", "BenchResult",
+    "BenchRow", "mean_and_count", "mean_or_nan", "parse_scales", "run_benchmark",
 ]

@@ -31,14 +31,12 @@ from typing import Any, Mapping, Sequence
 import cv2
 import numpy as np
 
-from .runner import METRICS, PROTOCOLS, ROW_FIELDS, BenchCase, BenchRow, left_out_reason, mean_and_count, mean_or_nan
+from .protocols import PROTOCOLS, left_out_reason
+from .runner import METRICS, ROW_FIELDS, BenchCase, BenchRow, mean_and_count, mean_or_nan
 from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
 from ..viz import colorize_depth, depth_limits, to_rgb8
 
 __all__ = [
-    "PUBLISHED",
-    "PUBLISHED_MEANS",
-    "PROTOCOL_TITLES",
     "Table",
     "summary_tables",
     "csv_text",
@@ -51,68 +49,6 @@ __all__ = [
     "rmse_scale_figure",
     "html_page",
 ]
-
-_PARK_README = "middlebury2005_park/README.md, sanity baseline computed by the dataset's authors"
-_PARK_BICUBIC = {4: (5.60, 4.37, 4.31), 8: (6.86, 4.66, 4.55), 16: (9.28, 5.28, 5.06)}
-
-#: Published per-scene RMSE on the same protocol, quoted exactly from the
-#: issue (Riegler et al. 2016, Table 2, noisy Middlebury x4) and the Park
-#: README (its PIL-bicubic sanity row, Art / Books / Moebius):
-#: ``{(protocol, scale): {"scenes": ..., "rows": {name: {"source": ..., "values": {scene: rmse}}}}}``.
-PUBLISHED: dict[tuple[str, int], dict[str, Any]] = {
-    ("park", s): {
-        "scenes": ("art", "books", "moebius"),
-        "rows": {
-            **({"TGV (Ferstl et al. 2013)": {
-                "source": "G. Riegler, M. Rüther, H. Bischof, \"ATGV-Net: Accurate depth super-resolution\", "
-                          "ECCV 2016, Table 2 (noisy Middlebury, x4), as quoted in the issue; Art there is "
-                          "Ferstl's noise draw (art/noisy_ferstl_x4.png, Park README), ours is noisy_x4.png",
-                "values": {"art": 4.06, "books": 2.21, "moebius": 2.03}}} if s == 4 else {}),
-            "PIL bicubic (README sanity row)": {
-                "source": _PARK_README,
-                "values": dict(zip(("art", "books", "moebius"), _PARK_BICUBIC[s]))},
-        },
-    }
-    for s in (4, 8, 16)
-}
-
-#: Published mean RMSE per scale, quoted exactly from the dataset READMEs:
-#: ``{protocol: [{"name", "source", "images", "values": {scale: rmse}}]}``.
-PUBLISHED_MEANS: dict[str, list[dict[str, Any]]] = {
-    "middlebury30": [
-        {"name": "DCTNet", "images": "30",
-         "source": "DCTNet README, as quoted in middlebury_lu30/README.md",
-         "values": {4: 1.10, 8: 2.05, 16: 4.19}},
-        {"name": "Bicubic (DKN/JIIF-era tables)", "images": "30",
-         "source": "middlebury_lu30/README.md (recalled there, not re-checked against the paper text)",
-         "values": {4: 2.28, 8: 3.98, 16: 6.37}},
-        {"name": "PIL bicubic (README sanity row)", "images": "28 (those here)",
-         "source": "middlebury_lu30/README.md, computed by the dataset's authors; reproduced without the "
-                   "6-px border crop (docs/bench.md)",
-         "values": {4: 2.212, 8: 3.854, 16: 6.144}},
-    ],
-    "lu": [
-        {"name": "DCTNet", "images": "6",
-         "source": "DCTNet README, as quoted in lu6/README.md",
-         "values": {4: 0.88, 8: 1.85, 16: 4.39}},
-        {"name": "Bicubic (DKN/JIIF-era tables)", "images": "6",
-         "source": "lu6/README.md (recalled there, not re-checked against the paper text)",
-         "values": {4: 2.42, 8: 4.54, 16: 7.38}},
-        {"name": "PIL bicubic (README sanity row)", "images": "6 (5 here + 1 held out)",
-         "source": "lu6/README.md, computed by the dataset's authors",
-         "values": {4: 2.419, 8: 4.541, 16: 7.377}},
-    ],
-}
-
-PROTOCOL_TITLES = {
-    "park": "Noisy Middlebury 2005 (Park et al. 2011): given noisy inputs, RMSE over the whole grid, "
-            "disparity levels",
-    "middlebury30": "Middlebury 30-image set (Lu et al. 2014 package): PIL bicubic input, 6-px border, "
-                    "0..255 units",
-    "lu": "Lu RGB-D set (Lu et al. 2014): PIL bicubic input, 6-px border, 0..255 units",
-    "tof": "Simulated ToF (our model, see docs/bench.md) from the Park ground truth, RMSE over the "
-           "whole grid, levels",
-}
 
 _METRIC_TITLES = {
     "rmse": "RMSE",
@@ -207,7 +143,7 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
             cells.append(_fmt(statistics.median(times), "seconds") if times else "–")
             body.append(tuple(cells))
         tables.append(Table(
-            title=f"{protocol}: mean RMSE — {PROTOCOL_TITLES.get(protocol, protocol)}",
+            title=f"{protocol}: mean RMSE — {PROTOCOLS[protocol].title if protocol in PROTOCOLS else protocol}",
             header=("method", *[f"×{s}" for s in scales], "s / image (median)"),
             body=tuple(body), note=note,
         ))
@@ -237,14 +173,14 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
 def published_table(rows: Sequence[BenchRow]) -> list[Table]:
     """Our RMSE beside the published numbers of the same protocol and scale.
 
-    Per scene where the source gives per-scene numbers (:data:`PUBLISHED`),
-    else the mean per scale (:data:`PUBLISHED_MEANS`; ours over the test
+    Per scene where the source gives per-scene numbers (``Protocol.published_scenes``),
+    else the mean per scale (``Protocol.published_means``; ours over the test
     scenes, with the number of scenes averaged). Each published row names
     its source and how many images it averages over.
     """
     tables = []
     methods = _methods_in_order(rows)
-    for (protocol, scale), pub in PUBLISHED.items():
+    for protocol, scale, pub in [(p.name, s, pub) for p in PROTOCOLS.values() for s, pub in p.published_scenes.items()]:
         scenes = pub["scenes"]
         ours = {(r.method, r.scene): r.rmse for r in rows if r.protocol == protocol and r.scale == scale}
         if not any(s == scene for _, s in ours for scene in scenes):
@@ -264,7 +200,7 @@ def published_table(rows: Sequence[BenchRow]) -> list[Table]:
             note=f"Sources: {sources}. Only numbers stated in the issue or the dataset READMEs are quoted; "
                  "the ATGV-Net paper's other rows (bilinear, guided filter, ATGV-Net) are not.",
         ))
-    for protocol, entries in PUBLISHED_MEANS.items():
+    for protocol, entries in [(p.name, p.published_means) for p in PROTOCOLS.values() if p.published_means]:
         scored = [r for r in _scored_rows(rows, protocol)[0]]
         scales = sorted({s for e in entries for s in e["values"]})
         if not scored:

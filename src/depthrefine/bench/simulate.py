@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import as_rgb_float, check_positive_int, check_rgb
+from .._validate import as_rgb_float, check_int, check_rgb
 
 __all__ = ["ToFModel", "simulate_tof", "footprint_mean", "linear_luminance"]
 
@@ -115,7 +115,7 @@ def footprint_mean(values: np.ndarray, scale: int, *, valid: np.ndarray | None =
     >>> footprint_mean(np.array([[1, 3, 5, 5], [1, 3, 5, 5]], float), 2).tolist()
     [[2.0, 5.0]]
     """
-    s = check_positive_int(scale, "scale")
+    s = check_int("scale", scale, minimum=1)
     values = np.asarray(values, dtype=np.float64)
     h, w = values.shape[0] // s, values.shape[1] // s
     if h < 1 or w < 1:
@@ -175,7 +175,7 @@ def simulate_tof(
     model = ToFModel() if model is None else model
     if not isinstance(model, ToFModel):
         raise TypeError(f"model must be a ToFModel; got {type(model).__name__}.")
-    s = check_positive_int(scale, "scale")
+    s = check_int("scale", scale, minimum=1)
     rgb = check_rgb(rgb_hr)
     gt = np.asarray(depth_gt, dtype=np.float64)
     if gt.ndim != 2:

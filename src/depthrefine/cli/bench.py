@@ -8,9 +8,9 @@ import sys
 from pathlib import Path
 
 from .. import __version__
-from ..bench.runner import (DEFAULT_SCALES, PROTOCOLS, TUNING_SCENES, left_out_reason, parse_scales, run_benchmark,
-                     tuned_on_scenes)
-from ..io import DATASET_FOLDERS, InputFileError, atomic_directory, check_output_dir, load_cases
+from ..bench.protocols import PROTOCOLS, TUNING_SCENES, left_out_reason, load_cases, tuned_on_scenes
+from ..bench.runner import DEFAULT_SCALES, parse_scales, run_benchmark
+from ..io import InputFileError, atomic_directory, check_output_dir
 from ..methods.registry import METHODS, get_method
 from ..methods.peers import fast_bilateral_solver_status
 from ..bench import report
@@ -33,7 +33,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--data", metavar="DIR",
                    help=f"folder holding the dataset folders (default: {DEFAULT_DATA} if present)")
     p.add_argument("--protocol", default="all", choices=[*PROTOCOLS, "all"],
-                   help="park, middlebury30, lu, tof, or all (default)")
+                   help="; ".join(f"{name}: {entry.title}" for name, entry in PROTOCOLS.items())
+                        + "; or all (default)")
     p.add_argument("--methods", metavar="A,B,C",
                    help=f"comma-separated methods (default: all registered: {','.join(METHODS)})")
     p.add_argument("--scales", default=",".join(map(str, DEFAULT_SCALES)), metavar="4,8,16",
@@ -76,13 +77,14 @@ def run(args: argparse.Namespace) -> int:
         check_output_dir(args.report, overwrite=args.overwrite, what="report folder")
     protocols = list(PROTOCOLS) if args.protocol == "all" else [args.protocol]
     if args.protocol == "all":
-        present = [p for p in protocols if (data / DATASET_FOLDERS[p]).is_dir() or data.name == DATASET_FOLDERS[p]]
+        folders = {p: PROTOCOLS[p].folder for p in protocols}
+        present = [p for p in protocols if (data / folders[p]).is_dir() or data.name == folders[p]]
         if not present:
             raise InputFileError(f"{data} holds none of the dataset folders "
-                                 f"{sorted(set(DATASET_FOLDERS.values()))}; pass --data DIR laid out as shared/data.")
+                                 f"{sorted(set(folders.values()))}; pass --data DIR laid out as shared/data.")
         for protocol in protocols:
             if protocol not in present:
-                print(f"depthrefine bench: note: {data} has no {DATASET_FOLDERS[protocol]}/; "
+                print(f"depthrefine bench: note: {data} has no {folders[protocol]}/; "
                       f"skipping the {protocol} protocol.", file=sys.stderr)
         protocols = present
     cases = []

@@ -12,7 +12,8 @@ from ._camera import (
 )
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
-from ._datasets import DATASET_FOLDERS, dataset_folder, load_cases, read_park_scenes, read_rgbd_pairs
+from ._datasets import (DATASET_READERS, DatasetScene, dataset_folder, read_dataset, read_rgbd_pairs,
+                        read_scene_folders)
 
 __all__ = [
     "InputFileError",
@@ -43,9 +44,10 @@ __all__ = [
     "SampleScene",
     "load_sample",
     "sample_folder",
-    "DATASET_FOLDERS",
+    "DATASET_READERS",
+    "DatasetScene",
     "dataset_folder",
-    "load_cases",
-    "read_park_scenes",
+    "read_dataset",
+    "read_scene_folders",
     "read_rgbd_pairs",
 ]

@@ -1,4 +1,4 @@
-"""Reading the benchmark data sets into cases of :mod:`depthrefine.bench`.
+"""Reading the benchmark data sets: the readers the protocols of :mod:`depthrefine.bench.protocols` name.
 
 A data folder holds dataset folders laid out as in ``shared/data`` (each has
 a README saying how it is scored)::
@@ -18,58 +18,55 @@ from __future__ import annotations
 
 import os
 import re
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
-from ..bench.runner import PROTOCOLS, BenchCase, lu_case, park_case, tof_case
 from ._files import InputFileError
 from ._images import read_depth, read_rgb
 
-__all__ = ["DATASET_FOLDERS", "DATASET_LAYOUTS", "dataset_folder", "read_park_scenes", "read_rgbd_pairs", "load_cases"]
-
-#: The dataset folder each protocol reads.
-DATASET_FOLDERS = {
-    "park": "middlebury2005_park",
-    "middlebury30": "middlebury_lu30",
-    "lu": "lu6",
-    "tof": "middlebury2005_park",
-}
-
-#: The expected file layout of each protocol's dataset folder (for error messages).
-DATASET_LAYOUTS = {
-    "park": "middlebury2005_park/<scene>/color.png, gt_disp.png (8-bit) and noisy_x<s>.png",
-    "tof": "middlebury2005_park/<scene>/color.png and gt_disp.png (8-bit)",
-    "middlebury30": "middlebury_lu30/RGB/<name>_output_color.png and middlebury_lu30/Depth/<name>_output_depth.png",
-    "lu": "lu6/RGB/<name>_ouput_color.png (or _output_color.png) and lu6/Depth/<name>_output_depth.png",
-}
+__all__ = ["DatasetScene", "DATASET_READERS", "dataset_folder", "read_dataset", "read_scene_folders",
+           "read_rgbd_pairs"]
 
 _COLOR_RE = re.compile(r"^(?P<name>.+?)_(?:output|ouput)_color\.png$", re.IGNORECASE)
 
 
-def dataset_folder(data_dir: str | os.PathLike, protocol: str) -> Path:
-    """The folder of ``protocol``'s dataset inside ``data_dir`` (or ``data_dir`` itself).
+@dataclass(frozen=True, eq=False)
+class DatasetScene:
+    """One scene of a dataset as stored: guide, ground truth and any given low-resolution inputs.
+
+    ``inputs`` maps a scale to the given input at that scale (the Park set's
+    ``noisy_x<s>.png``); ``source`` is the scene's folder or color file.
+    """
+
+    name: str
+    rgb_hr: np.ndarray
+    depth_gt: np.ndarray
+    inputs: dict[int, np.ndarray] = field(default_factory=dict)
+    source: Path = Path(".")
+
+
+def dataset_folder(data_dir: str | os.PathLike, name: str, *, protocol: str = "", layout: str = "") -> Path:
+    """The dataset folder ``name`` inside ``data_dir`` (or ``data_dir`` itself, if that is it).
 
     Raises
     ------
-    ValueError
-        Unknown protocol.
     InputFileError
-        ``data_dir`` or the dataset folder is missing.
+        ``data_dir`` or the dataset folder is missing (the message names the
+        protocol that reads it and the layout it expects).
     """
-    if protocol not in DATASET_FOLDERS:
-        raise ValueError(f"unknown protocol {protocol!r}; choose one of {list(PROTOCOLS)}.")
     root = Path(data_dir)
     if not root.is_dir():
         raise InputFileError(f"data folder {root} does not exist or is not a folder; pass --data DIR.")
-    name = DATASET_FOLDERS[protocol]
     if root.name == name:
         return root
     folder = root / name
     if not folder.is_dir():
+        who = f", which the {protocol!r} protocol reads" if protocol else ""
         raise InputFileError(
-            f"data folder {root} has no {name}/ folder, which the {protocol!r} protocol reads; "
-            f"lay it out as shared/data: {root}/{DATASET_LAYOUTS[protocol]}."
+            f"data folder {root} has no {name}/ folder{who}; lay it out as shared/data: {root}/{layout or name}."
         )
     return folder
 
@@ -92,11 +89,12 @@ def _read_pair(color: Path, depth: Path) -> tuple[np.ndarray, np.ndarray]:
     return rgb, gt
 
 
-def read_park_scenes(folder: str | os.PathLike, *, notes: list[str] | None = None
-                     ) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """``(scene, rgb_hr, depth_gt)`` of each scene folder holding ``color.png`` and ``gt_disp.png``.
+def read_scene_folders(folder: str | os.PathLike, *, scales: tuple[int, ...] = (),
+                       notes: list[str] | None = None) -> list[DatasetScene]:
+    """Each scene folder holding ``color.png`` and ``gt_disp.png`` (and ``noisy_x<s>.png`` inputs).
 
-    Scenes are sorted by name; ``depth_gt`` is as stored. A scene folder
+    Scenes are sorted by name; ``depth_gt`` is as stored; ``inputs`` holds the
+    ``noisy_x<s>.png`` of each of ``scales`` that exists. A scene folder
     whose files are missing or unreadable is skipped, with a note appended
     to ``notes``.
 
@@ -117,7 +115,15 @@ def read_park_scenes(folder: str | os.PathLike, *, notes: list[str] | None = Non
         except (InputFileError, ValueError, OSError) as exc:
             _note(notes, f"skipped scene {sub.name}: {exc}")
             continue
-        scenes.append((sub.name, rgb, gt))
+        inputs = {}
+        for s in scales:
+            noisy = sub / f"noisy_x{s}.png"
+            if noisy.is_file():
+                try:
+                    inputs[s] = read_depth(noisy)
+                except (InputFileError, ValueError, OSError) as exc:
+                    _note(notes, f"skipped {sub.name} x{s}: {exc}")
+        scenes.append(DatasetScene(sub.name, rgb, gt, inputs, sub))
     if not scenes:
         raise InputFileError(
             f"{folder} holds no usable scene folder; expected {folder.name}/<scene>/color.png and gt_disp.png "
@@ -126,9 +132,9 @@ def read_park_scenes(folder: str | os.PathLike, *, notes: list[str] | None = Non
     return scenes
 
 
-def read_rgbd_pairs(folder: str | os.PathLike, *, notes: list[str] | None = None
-                    ) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """``(name, rgb_hr, depth_gt)`` of each ``RGB/<name>_output_color.png`` with its ``Depth/<name>_output_depth.png``.
+def read_rgbd_pairs(folder: str | os.PathLike, *, scales: tuple[int, ...] = (),
+                    notes: list[str] | None = None) -> list[DatasetScene]:
+    """Each ``RGB/<name>_output_color.png`` with its ``Depth/<name>_output_depth.png`` (``scales`` unused).
 
     The Lu set's color files are spelt ``_ouput_color``; both spellings are
     read. Pairs are sorted by name; ``depth_gt`` is as stored. A pair with a
@@ -160,69 +166,25 @@ def read_rgbd_pairs(folder: str | os.PathLike, *, notes: list[str] | None = None
         except (InputFileError, ValueError, OSError) as exc:
             _note(notes, f"skipped {name}: {exc}")
             continue
-        pairs.append((name, rgb, gt))
+        pairs.append(DatasetScene(name, rgb, gt, {}, color))
     if not pairs:
         raise InputFileError(f"{folder} holds no usable color/depth pair; {expected}.")
     return pairs
 
 
-def load_cases(data_dir: str | os.PathLike, protocol: str, scales: tuple[int, ...], *,
-               notes: list[str] | None = None) -> list[BenchCase]:
-    """Every case of ``protocol`` at ``scales`` found under ``data_dir``, scene by scene.
+#: The readers a protocol can name (``Protocol.reader``).
+DATASET_READERS: dict[str, Callable[..., list[DatasetScene]]] = {
+    "scene_folders": read_scene_folders,
+    "rgbd_pairs": read_rgbd_pairs,
+}
 
-    Parameters
-    ----------
-    data_dir : path-like
-        A folder laid out as ``shared/data`` (or one dataset folder).
-    protocol : {"park", "middlebury30", "lu", "tof"}
-    scales : tuple of int
-    notes : list of str, optional
-        Each scene or scale skipped (a missing or unusable file) appends
-        one line here, naming the protocol, the scene, the scale and why.
 
-    Returns
-    -------
-    list of BenchCase
-        Ordered by scene, then scale.
-
-    Raises
-    ------
-    InputFileError
-        The dataset folder is missing, or no case at all is usable (the
-        message names the expected layout and the first reason).
-    """
-    folder = dataset_folder(data_dir, protocol)
-    mine: list[str] = []
-    cases: list[BenchCase] = []
-    if protocol in ("park", "tof"):
-        scenes = read_park_scenes(folder, notes=mine)
-    else:
-        scenes = read_rgbd_pairs(folder, notes=mine)
-    mine[:] = [f"{protocol}: {n}" for n in mine]
-    for scene, rgb, gt in scenes:
-        for s in scales:
-            try:
-                if protocol == "tof":
-                    case = tof_case(scene, s, rgb, gt)
-                elif protocol == "park":
-                    noisy = folder / scene / f"noisy_x{s}.png"
-                    if not noisy.is_file():
-                        mine.append(f"park: skipped {scene} x{s}: {noisy} is missing (the park protocol needs "
-                                    "the given noisy input).")
-                        continue
-                    case = park_case(scene, s, read_depth(noisy), rgb, gt)
-                else:
-                    case = lu_case(protocol, scene, s, rgb, gt)
-            except (InputFileError, ValueError, OSError) as exc:
-                mine.append(f"{protocol}: skipped {scene} x{s}: {exc}")
-                continue
-            cases.append(case)
-    if not cases:
-        first = f" First problem: {mine[0]}" if mine else ""
-        raise InputFileError(
-            f"{folder}: no usable case for the {protocol!r} protocol at x{','.join(map(str, scales))}; "
-            f"expected {DATASET_LAYOUTS[protocol]}.{first}"
-        )
-    if notes is not None:
-        notes.extend(mine)
-    return cases
+def read_dataset(data_dir: str | os.PathLike, name: str, reader: str, *, protocol: str = "", layout: str = "",
+                 scales: tuple[int, ...] = (), notes: list[str] | None = None) -> tuple[Path, list[DatasetScene]]:
+    """The dataset folder ``name`` under ``data_dir`` and its scenes, read by ``DATASET_READERS[reader]``."""
+    folder = dataset_folder(data_dir, name, protocol=protocol, layout=layout)
+    try:
+        read = DATASET_READERS[reader]
+    except KeyError:
+        raise ValueError(f"unknown dataset reader {reader!r}; choose one of {sorted(DATASET_READERS)}.") from None
+    return folder, read(folder, scales=scales, notes=notes)

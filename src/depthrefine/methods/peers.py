@@ -50,7 +50,7 @@ from typing import Callable
 import cv2
 import numpy as np
 
-from .._validate import as_rgb_float, check_rgb
+from .._validate import as_rgb_float, check_number, check_rgb
 from .baselines import upsample
 
 __all__ = [
@@ -73,11 +73,7 @@ Progress = Callable[[int, int], None]
 
 def _check_positive(params: object, *names: str) -> None:
     for name in names:
-        value = getattr(params, name)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise TypeError(f"{name} must be a finite number; got {value!r}.")
-        if value <= 0:
-            raise ValueError(f"{name} must be > 0; got {value}.")
+        check_number(name, getattr(params, name), positive=True)
 
 
 @dataclass(frozen=True)
@@ -273,9 +269,12 @@ def upsample_wmf(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: WeightedMe
     OpenCV bins floating-point input into at most 256 values before taking
     the median, so the result is quantised to about ``range / 256``. It
     also clusters a color guide with k-means seeded from OpenCV's global
-    random generator, which made repeated calls differ; the generator is
-    reseeded (``cv2.setRNGSeed(0)``) right before the call, so the result is
-    bit-identical from run to run (a side effect on OpenCV's RNG state).
+    random generator; the generator is reseeded (``cv2.setRNGSeed(0)``)
+    right before the call (a side effect on OpenCV's RNG state). Even so,
+    OpenCV 5.0.0's filter is **not** bit-identical from run to run on noisy
+    float input (the fuzz tests found up to 22 % of the pixels differing; it
+    looks like a read of uninitialised memory), so the method is registered
+    with ``deterministic=False`` and the determinism tests leave it out.
     Parameters and returns as :func:`upsample_jbf` (params: :class:`WeightedMedianParams`).
 
     Examples
@@ -286,7 +285,7 @@ def upsample_wmf(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: WeightedMe
     """
     params, rgb, start, s = _prepare(depth_lr, rgb_hr, params, WeightedMedianParams)
     radius = max(1, int(round(params.radius_lr * s)))
-    cv2.setRNGSeed(0)  # the filter clusters the guide colors with OpenCV's RNG: seed it, so reruns are bit-identical
+    cv2.setRNGSeed(0)  # the filter clusters the guide colors with OpenCV's RNG (see the docstring)
     out = cv2.ximgproc.weightedMedianFilter(_guide8(rgb), start, radius, params.sigma)
     _done(progress)
     return out.astype(np.float32, copy=False)

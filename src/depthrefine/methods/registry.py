@@ -42,6 +42,13 @@ class Method:
         One line for ``--help`` and reports.
     guided : bool
         Whether it uses the color image (False for plain interpolation).
+    deterministic : bool
+        Whether the same input and parameters always give a bit-identical
+        output (the project's rule; False only for a peer whose library
+        breaks it, and then said in its summary).
+    interpolating : bool
+        Whether every output value lies within the range of the valid input
+        depths (a convex combination of them, or clipped to their range).
     """
 
     name: str
@@ -49,6 +56,8 @@ class Method:
     params_type: type | None
     summary: str
     guided: bool = True
+    deterministic: bool = True
+    interpolating: bool = False
 
     def default_params(self) -> Any:
         """The method's default parameters (``None`` if it has none)."""
@@ -65,6 +74,8 @@ def register_method(
     params_type: type | None = None,
     summary: str = "",
     guided: bool = True,
+    deterministic: bool = True,
+    interpolating: bool = False,
     replace: bool = False,
 ) -> Method:
     """Add a method to :data:`METHODS` and return its entry.
@@ -75,7 +86,8 @@ def register_method(
         raise ValueError(f"method name must be a non-empty word (letters, digits, '-', '_'); got {name!r}.")
     if name in METHODS and not replace:
         raise ValueError(f"a method named {name!r} is already registered; pass replace=True to replace it.")
-    entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided)
+    entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided,
+                   deterministic=deterministic, interpolating=interpolating)
     METHODS[name] = entry
     return entry
 
@@ -163,10 +175,13 @@ def refine(
 
 register_method("thesis", refine_thesis, params_type=RefineParams,
                 summary="the thesis method: per-patch color k-means, histogram correction, "
-                        "per-cluster interpolation (Chen 2014, ch. 4)")
-register_method("nearest", baselines.upsample_nearest, summary="nearest-neighbour enlargement", guided=False)
-register_method("bilinear", baselines.upsample_bilinear, summary="bilinear enlargement", guided=False)
-register_method("bicubic", baselines.upsample_bicubic, summary="bicubic enlargement", guided=False)
+                        "per-cluster interpolation (Chen 2014, ch. 4)", interpolating=True)
+register_method("nearest", baselines.upsample_nearest, summary="nearest-neighbour enlargement", guided=False,
+                interpolating=True)
+register_method("bilinear", baselines.upsample_bilinear, summary="bilinear enlargement", guided=False,
+                interpolating=True)
+register_method("bicubic", baselines.upsample_bicubic, summary="bicubic enlargement", guided=False,
+                interpolating=True)
 register_method("jbf", peers.upsample_jbf, params_type=peers.JointBilateralParams,
                 summary="bilinear, then OpenCV joint bilateral filter guided by the color (Kopf 2007)")
 register_method("guided", peers.upsample_guided, params_type=peers.GuidedParams,
@@ -174,7 +189,8 @@ register_method("guided", peers.upsample_guided, params_type=peers.GuidedParams,
 register_method("fgs", peers.upsample_fgs, params_type=peers.FastGlobalSmootherParams,
                 summary="bilinear, then OpenCV fast global smoother (weighted least squares, Min 2014)")
 register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParams,
-                summary="bilinear, then OpenCV weighted median filter (Zhang 2014)")
+                summary="bilinear, then OpenCV weighted median filter (Zhang 2014); not bit-identical from run "
+                        "to run (OpenCV 5.0.0's filter)", deterministic=False)
 if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen have a working solver
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")

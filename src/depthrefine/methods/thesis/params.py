@@ -10,9 +10,10 @@ to its output and read back (:meth:`RefineParams.to_dict`,
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 from typing import Any, Mapping
+
+from ..._validate import check_int, check_number, is_int
 
 __all__ = ["RefineParams", "Rect", "params_from_mapping"]
 
@@ -110,19 +111,19 @@ class RefineParams:
                         "x and y must be >= 0, width and height >= 1."
                     )
             object.__setattr__(self, "patch_layout", layout)
-        _check_int("median_size", self.median_size, 1)
+        check_int("median_size", self.median_size, minimum=1)
         if self.median_size % 2 == 0:
             raise ValueError(f"median_size must be odd (a centred window); got {self.median_size}.")
-        _check_int("n_clusters", self.n_clusters, 1)
-        _check_int("kmeans_iterations", self.kmeans_iterations, 0)
-        _check_int("histogram_bins", self.histogram_bins, 2)
-        _check_int("expansion", self.expansion, 0)
+        check_int("n_clusters", self.n_clusters, minimum=1)
+        check_int("kmeans_iterations", self.kmeans_iterations, minimum=0)
+        check_int("histogram_bins", self.histogram_bins, minimum=2)
+        check_int("expansion", self.expansion, minimum=0)
         for name in ("unify_lightness", "correct_depth"):
             if not isinstance(getattr(self, name), bool):
                 raise TypeError(f"{name} must be true or false; got {getattr(self, name)!r}.")
         for name in ("black_bound", "white_bound", "max_lightness", "lightness_weight",
                      "dominant_fraction", "tolerance_levels"):
-            _check_float(name, getattr(self, name))
+            check_number(name, getattr(self, name))
         if not 0.0 <= self.black_bound < self.white_bound <= 1.0:
             raise ValueError(
                 "black_bound and white_bound must satisfy 0 <= black_bound < white_bound <= 1; "
@@ -137,7 +138,7 @@ class RefineParams:
         if self.tolerance_levels < 0:
             raise ValueError(f"tolerance_levels must be >= 0; got {self.tolerance_levels}.")
         if self.level_size is not None:
-            _check_float("level_size", self.level_size)
+            check_number("level_size", self.level_size)
             if self.level_size <= 0:
                 raise ValueError(f"level_size must be > 0 depth units (or unset); got {self.level_size}.")
 
@@ -177,28 +178,9 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def _is_int(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
 def _int_tuple(name: str, value: Any, length: int) -> tuple[int, ...]:
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != length:
         raise TypeError(f"{name} must be a list of {length} integers; got {value!r}.")
-    if not all(_is_int(v) for v in value):
+    if not all(is_int(v) for v in value):
         raise TypeError(f"{name} must hold integers only; got {value!r}.")
     return tuple(int(v) for v in value)
-
-
-def _check_int(name: str, value: Any, minimum: int) -> None:
-    if not _is_int(value):
-        raise TypeError(f"{name} must be an integer; got {value!r} ({type(value).__name__}).")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}; got {value}.")
-
-
-def _check_float(name: str, value: Any) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise TypeError(f"{name} must be a number; got {value!r} ({type(value).__name__}).")
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite; got {value}.")
-

@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 from scipy import ndimage
 
-from ..._validate import as_rgb_float, check_positive_int
+from ..._validate import as_rgb_float, check_int
 
 __all__ = [
     "median_rgb",
@@ -49,7 +49,7 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
     >>> int(median_rgb(img, 7).max())
     0
     """
-    size = check_positive_int(size, "median_size")
+    size = check_int("median_size", size, minimum=1)
     if size % 2 == 0:
         raise ValueError(f"median_size must be odd; got {size}.")
     if size == 1:
@@ -208,7 +208,7 @@ def kmeans(
     >>> labels.tolist(), means.tolist()
     ([0, 0, 1, 1], [[0.0, 0.5], [10.0, 10.5]])
     """
-    n_clusters = check_positive_int(n_clusters, "n_clusters")
+    n_clusters = check_int("n_clusters", n_clusters, minimum=1)
     if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 0:
         raise ValueError(f"kmeans iterations must be an integer >= 0; got {iterations!r}.")
     x = np.asarray(features, dtype=np.float32)
