@@ -1,7 +1,7 @@
 """The faithful thesis method on a real scene: measured, not bent to win.
 
 Middlebury 2005 "Books" (Park et al.'s noisy low-resolution disparity, 8-bit,
-larger = nearer), full 1376 x 1088 frame. The spec (``algorithm.md``, last
+larger = nearer), full 1376 x 1088 frame. The design note (``docs/algorithm.md``, last
 section) predicts that the faithful method lands far behind plain
 interpolation there, because the histogram correction (4.4.4) snaps whole
 surfaces of a color cluster that spans several depths to its dominant values;

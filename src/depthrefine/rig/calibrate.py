@@ -8,22 +8,10 @@ same pinhole + radial/tangential model. For the calibrated alignment (spec
 step 3, "beyond the thesis") ``stereoCalibrate`` gives the rotation and
 translation from the depth camera to the color camera.
 
-Everything here is pure: images in, :class:`CameraModel` / :class:`StereoRig`
-out. Files are read and written by :mod:`depthrefine.io`.
-
-Conventions
------------
-- ``K`` is OpenCV's 3x3 intrinsic matrix in pixels, pixel centres at integer
-  coordinates (the centre of the top-left pixel is ``(0, 0)``).
-- ``dist`` holds distortion coefficients in OpenCV order
-  ``(k1, k2, p1, p2[, k3[, k4, k5, k6 ...]])``.
-- ``image_size`` is ``(width, height)``, as OpenCV and the JSON files give it;
-  array shapes are ``(rows, cols)`` as everywhere else.
-- ``board`` is ``(cols, rows)``: the number of *inner* corners across and
-  down, as OpenCV counts them; ``square_size`` is the side of one square in
-  metres, so a rig's translation ``t`` is in metres.
-- A rig maps a point from the depth camera's frame to the color camera's:
-  ``X_color = R @ X_depth + t``.
+Everything here is pure: board views in, :class:`~depthrefine.rig.camera.CameraModel` /
+:class:`~depthrefine.rig.camera.StereoRig` out; the conventions (``K``, ``dist``, ``image_size``,
+``board`` and the rig's direction) are those of :mod:`depthrefine.rig.camera`. Files are read
+and written by :mod:`depthrefine.io`.
 """
 
 from __future__ import annotations

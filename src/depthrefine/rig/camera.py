@@ -1,15 +1,7 @@
 """Camera models: a pinhole camera with lens distortion, and a depth + color rig.
 
-The thesis (3.2.1) calibrates the ToF camera's lens distortion from
-checkerboard images of its intensity channel with the Matlab Camera
-Calibration Toolbox; the same parameters undistort the depth map, because
-depth and intensity share one viewpoint. OpenCV's ``calibrateCamera`` fits the
-same pinhole + radial/tangential model. For the calibrated alignment (spec
-step 3, "beyond the thesis") ``stereoCalibrate`` gives the rotation and
-translation from the depth camera to the color camera.
-
-Everything here is pure: images in, :class:`CameraModel` / :class:`StereoRig`
-out. Files are read and written by :mod:`depthrefine.io`.
+What :mod:`depthrefine.rig.calibrate` fits and the rest of the rig uses. Pure data
+classes; files are read and written by :mod:`depthrefine.io`.
 
 Conventions
 -----------
@@ -37,7 +29,6 @@ import numpy as np
 from .._validate import is_int
 
 __all__ = ["CameraModel", "StereoRig", "check_camera_shape"]
-
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,4 +1,4 @@
-"""The thesis method (Chen 2014, chapter 4), faithful to ``spec/algorithm.md``.
+"""The thesis method (Chen 2014, chapter 4), faithful to the project's design note ``docs/algorithm.md``.
 
 - ``params``    :class:`RefineParams`, the thesis's parameters and their defaults
 - ``segment``   color clustering: 7x7 median, L*a*b* with unified L*, k-means (4.3)

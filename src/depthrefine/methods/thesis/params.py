@@ -1,7 +1,7 @@
 """Parameters of the thesis refinement, with the thesis values as defaults.
 
 Every number the thesis gives (chapter 4) or the algorithm spec decides
-(``spec/algorithm.md`` steps 4-8) is a field of :class:`RefineParams`, so a
+(the design note ``docs/algorithm.md``, steps 4-8) is a field of :class:`RefineParams`, so a
 run is fully described by one frozen, hashable value that can be written next
 to its output and read back (:meth:`RefineParams.to_dict`,
 :meth:`RefineParams.from_dict`).

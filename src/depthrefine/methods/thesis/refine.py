@@ -1,4 +1,4 @@
-"""The thesis refinement, steps 4-8 of ``spec/algorithm.md`` (thesis chapter 4).
+"""The thesis refinement, steps 4-8 of the design note ``docs/algorithm.md`` (thesis chapter 4).
 
 For each patch of the color image and the matching patch of the depth map:
 cluster the colors (4.3), classify the depth samples by the cluster of the
