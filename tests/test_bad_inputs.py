@@ -319,7 +319,7 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
                                          lib=lambda: RefineParams(n_clusters=-3)),
     "clusters not a number": lambda ws: Case(ws.refine(None, None, "--clusters", "four"), ["--clusters", "'four'"],
                                              lib=lambda: RefineParams(n_clusters="four")),
-    "patches 0x4": lambda ws: Case(ws.refine(None, None, "--patches", "0x4"), ["--patches", "ACROSSxDOWN", "'0x4'"],
+    "patches 0x4": lambda ws: Case(ws.refine(None, None, "--patches", "0x4"), ["--patches", "COLSxROWS", "'0x4'"],
                                    lib=lambda: RefineParams(patches=(0, 4))),
     "unknown method": lambda ws: Case(ws.refine(None, None, "--method", "magic"), ["--method", "'magic'", "choose from"],
                                       lib=lambda: depthrefine.refine(_depth_u8(), RGB, method="magic")),
@@ -431,7 +431,7 @@ def test_internal_error_traceback_with_debug(tmp_path, capsys, monkeypatch, wher
 def test_internal_error_while_writing_intermediates_leaves_nothing(tmp_path, capsys, monkeypatch):
     """A bug in the middle of --save-intermediate: neither the folder nor the result appears."""
     ws = Workspace(tmp_path)
-    monkeypatch.setattr("depthrefine.viz.overlay_sparse", _boom)
+    monkeypatch.setattr("depthrefine.viz.spread_samples", _boom)
     before = _snapshot(tmp_path)
     code, err = _run(ws.refine(None, None, "--save-intermediate", tmp_path / "steps"), capsys)
     assert code == 1, err
@@ -731,6 +731,14 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
     "demo: output is a file": lambda ws: Case(["demo", "-o", str(ws.out / "earlier.png")], ["earlier.png", "give a folder name"]),
     "demo: output folder not empty": lambda ws: Case(["demo", "-o", str(ws.out)], [str(ws.out), "pass --overwrite"]),
     "demo: scale 3": lambda ws: Case(["demo", "-o", str(ws.out / "d"), "--scale", "3"], ["--scale", "invalid choice"]),
+    # show
+    "show: depth missing": lambda ws: Case(["show", str(ws.inputs / "none.png"), "-o", str(ws.out / "s.png")],
+                                           ["none.png", "does not exist"]),
+    "show: color image as depth": lambda ws: Case(["show", str(ws.color), "-o", str(ws.out / "s.png")],
+                                                  ["depth map is one channel"]),
+    "show: output not png": lambda ws: Case(["show", str(ws.depth), "-o", str(ws.out / "s.tif")], ["s.tif", ".png"]),
+    "show: range reversed": lambda ws: Case(["show", str(ws.depth), "-o", str(ws.out / "s.png"), "--range", "5,1"],
+                                            ["--range", "MIN < MAX"]),
     # calibrate, calibrate-stereo
     "calibrate: images missing": lambda ws: Case(
         ["calibrate", str(ws.inputs / "b1.png"), "--board", "9x6", "--square", "25mm", "-o", str(ws.out / "cam.json")],

@@ -183,9 +183,12 @@ def test_save_intermediate_writes_the_pictures(files, tmp_path):
                 "color_filtered.png", "corrected_depth_over_color.png"}
     assert pictures | {"run.json", "intermediates.npz"} <= names
     assert not [n for n in names if n.startswith(".")], "no temporary files left behind"
-    for name in pictures:
+    for name in ("cluster_labels.png", "color_filtered.png"):  # images on the color grid
         picture = cv2.imread(str(folder / name), cv2.IMREAD_UNCHANGED)
         assert picture.shape == (64, 96, 3) and picture.dtype == np.uint8, name
+    for name in pictures - {"cluster_labels.png", "color_filtered.png"}:  # depth: figures with a colorbar
+        picture = cv2.imread(str(folder / name), cv2.IMREAD_UNCHANGED)
+        assert picture is not None and picture.shape[1] > 96 and picture.std() > 5, name
     record = json.loads((folder / "run.json").read_text(encoding="utf-8"))
     assert record["method"] == "thesis" and record["params"]["patches"] == [2, 2]
     assert record["depth_shape"] == [16, 24] and record["color_shape"] == [64, 96] and record["dtype"] == "uint8"

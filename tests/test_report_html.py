@@ -83,16 +83,40 @@ def test_csv_and_terminal_table():
     assert re.search(r"nearest\s+2\.50", text) and re.search(r"guided\s+–", text)
 
 
-def test_figures_are_built_without_files():
+def test_scene_figure_has_both_colorbars_one_depth_range_and_the_rmse_in_titles():
     gt = np.tile(np.repeat(np.array([40, 200], np.uint8), 16), (32, 1))
     case = park_case("toy", 4, gt[1::4, 1::4].copy(), np.zeros((32, 32, 3), np.uint8), gt)
-    fig = report.scene_figure(case, {"nearest": case.depth_gt + 1, "bilinear": case.depth_gt}, rmse={"nearest": 1.0})
-    assert len(fig.axes) == 4 * 4
-    assert fig.axes[2].get_title() == "nearest\nRMSE 1.00"
-    err = report.error_map(case.depth_gt + 20, case.depth_gt)
-    assert err.shape == (32, 32, 3) and (err == err[0, 0]).all()  # saturated everywhere
+    results = {"nearest": case.depth_gt + 1, "bilinear": case.depth_gt}
+    fig = report.scene_figure(case, results, rmse={"nearest": 1.0})
+    panels = {ax.get_title(): ax for ax in fig.axes if ax.get_label().startswith("panel:")}
+    assert {"ground truth", "color", "nearest: RMSE 1.00", "bilinear", "nearest: |error|"} <= set(panels)
+    depth = [ax.get_images()[-1] for ax in fig.axes if ax.get_label().startswith("panel:depth")]
+    assert len(depth) == 6 and {im.get_clim() for im in depth} == {(40.0, 200.0)}   # the ground truth's range
+    errors = [ax.get_images()[-1] for ax in fig.axes if ax.get_label().startswith("panel:error")]
+    assert {im.get_clim() for im in errors} == {(0.0, report.ERROR_MAP_MAX)}
+    np.testing.assert_array_equal(panels["nearest: |error|"].get_images()[0].get_array(), np.ones((32, 32)))
+    bars = {ax.get_label(): ax for ax in fig.axes if ax.get_label().startswith("colorbar:")}
+    assert bars["colorbar:depth"].get_xlabel() == "depth (disparity levels)"
+    assert bars["colorbar:error"].get_xlabel() == "|error| (disparity levels)"
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["gray: no measurement"]
+    err = report.error_map(case.depth_gt + 20, case.depth_gt, border=2)
+    assert err.shape == (32, 32) and np.isnan(err[:2]).all() and (err[2:-2, 2:-2] == 20).all()
     fig = report.rmse_scale_figure([_row("lu", "a", 4, "m", 1.0), _row("lu", "a", 8, "m", 2.0)])
     assert fig.axes[0].lines[0].get_ydata().tolist() == [1.0, 2.0]
+
+
+def test_best_value_of_each_column_is_marked():
+    table = report.Table("t", ("method", "scale", "RMSE", "coverage (%)", "s / image"),
+                         (("a", "×4", "2.00", "90.0", "0.5"), ("b", "×4", "1.00 (n=1)", "99.0", "0.5"),
+                          ("a", "×8", "3.00", "–", "1.0"), ("b", "×8", "4.00", "95.0", "2.0")))
+    # Per scale: RMSE lowest, coverage highest, ties all marked; a lone number is no "best".
+    assert report.best_cells(table) == {(1, 2), (1, 3), (0, 4), (1, 4), (2, 2), (2, 4)}
+    rows = [_row("park", "art", 4, "bilinear", 2.0), _row("park", "art", 4, "thesis", 1.0)]
+    html_text = report.html_page(rows, figures=[("cap", "f.png")], plot="p.png")
+    assert '<td class="best">1.00</td>' in html_text and "<td>2.00</td>" in html_text
+    assert '<a href="f.png"><img src="f.png"' in html_text and "click to enlarge" in html_text
+    assert '<a href="p.png"><img class="plot"' in html_text and 'name="viewport"' in html_text
+    assert "| thesis | **1.00** |" in report.summary_markdown(rows)
 
 
 def _synthetic_lu_folder(root: Path, rng) -> Path:
@@ -118,6 +142,7 @@ def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
     page = out / "index.html"
     text = page.read_text()
     assert text.count('<table class="scores">') == 3  # the RMSE table, the all-metrics table, the published means
+    assert text.count('<td class="best">') >= 4
     n_images = text.count("<img ")
     assert n_images == 1 + 2  # the plot and one figure per scene (at x8)
     if CHROMIUM is None:
@@ -131,7 +156,7 @@ def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
     assert proc.returncode == 0 and "<html" in dom, proc.stderr[-2000:]
     # The browser parsed the tables and decoded every image (the page counts them on load).
     assert dom.count('<table class="scores">') == 3
-    assert re.search(r"<td>bilinear</td><td>[0-9.]+</td><td>[0-9.]+</td>", dom)
+    assert re.search(r'<td>bilinear</td><td( class="best")?>[0-9.]+</td><td( class="best")?>[0-9.]+</td>', dom)
     loaded = re.search(r'data-images-loaded="(\d+)"', dom)
     assert loaded and int(loaded.group(1)) == n_images, dom[:500]
     shot = tmp_path / "page.png"

@@ -1,12 +1,27 @@
-"""Pictures a user looks at: colorized depth, cluster labels, overlays, comparison figures.
+"""Pictures a user looks at: depth figures with a colorbar, colorized depth, cluster labels.
 
-Image functions return RGB uint8 arrays (no file access). Figure functions
-build a matplotlib ``Figure`` (Agg, no display needed) that the caller saves;
-matplotlib is imported only inside them.
+Every depth picture the package writes is a matplotlib ``Figure`` built by
+:func:`figure_grid` (or its shorthands :func:`comparison_figure` and
+:func:`depth_figure`), so that it follows one set of rules:
+
+- one perceptually uniform colormap for depth, :data:`DEPTH_COLORMAP`
+  (viridis: lightness grows with the value, readable in gray and by
+  color-blind readers), and :data:`ERROR_COLORMAP` for error maps;
+- the same range on every depth panel of a figure, with one colorbar
+  labelled in the depth's units (arrows on the bar when panels go beyond it);
+- pixels without a measurement in a neutral gray, :data:`INVALID_COLOR`,
+  named in the figure's legend.
+
+The functions are pure: they return arrays or a ``Figure`` (Agg, no display
+needed) and the caller writes it. matplotlib is imported only inside them.
+Each panel's axes carries its kind as its label (``ax.get_label()`` is
+``"panel:depth"``, ``"panel:color"`` ...), so tests can check the arrays,
+ranges, titles and colorbars behind a figure without looking at pixels.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Sequence
 
 import cv2
@@ -15,18 +30,70 @@ import numpy as np
 from ._validate import as_rgb_float
 
 __all__ = [
+    "DEPTH_COLORMAP",
+    "ERROR_COLORMAP",
+    "INVALID_COLOR",
+    "INVALID_LABEL",
+    "PANEL_KINDS",
+    "Panel",
+    "to_rgb8",
+    "depth_limits",
     "colorize_depth",
     "colorize_labels",
-    "blend",
-    "overlay_sparse",
-    "to_rgb8",
+    "spread_samples",
+    "figure_grid",
     "comparison_figure",
-    "depth_limits",
+    "depth_figure",
     "pick_detail",
 ]
 
-#: Colormap for depth (perceptually uniform); invalid pixels are drawn black.
-DEPTH_COLORMAP = cv2.COLORMAP_TURBO
+#: Colormap of every depth picture (matplotlib name; perceptually uniform).
+DEPTH_COLORMAP = "viridis"
+#: Colormap of error maps (perceptually uniform, distinct from depth's).
+ERROR_COLORMAP = "magma"
+#: Pixels without a measurement: neutral mid gray (RGB 0..255), in no colormap above.
+INVALID_COLOR = (128, 128, 128)
+#: The legend entry naming :data:`INVALID_COLOR`.
+INVALID_LABEL = "gray: no measurement"
+#: What a :class:`Panel` can show.
+PANEL_KINDS = ("color", "depth", "error", "samples", "blend")
+#: Kinds drawn with the depth colormap and range.
+_DEPTH_KINDS = ("depth", "samples", "blend")
+_CV2_COLORMAPS = {"viridis": cv2.COLORMAP_VIRIDIS, "magma": cv2.COLORMAP_MAGMA}
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One picture of a :func:`figure_grid`.
+
+    Attributes
+    ----------
+    title : str
+        Shown above the panel (put the RMSE here).
+    image : ndarray
+        ``color``: (H, W, 3) color image; ``depth`` / ``error``: (H, W)
+        values, NaN = no measurement; ``samples``: (H, W) sparse depth (NaN
+        between samples) drawn as dots over ``background`` dimmed;
+        ``blend``: (H, W) depth drawn half-transparent over ``background``.
+    kind : str
+        One of :data:`PANEL_KINDS`.
+    detail : bool
+        Show only the figure's zoom window of ``image``, enlarged.
+    background : (H, W, 3) ndarray, optional
+        The color image under ``samples`` and ``blend``.
+    """
+
+    title: str
+    image: np.ndarray
+    kind: str = "depth"
+    detail: bool = False
+    background: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.kind not in PANEL_KINDS:
+            raise ValueError(f"Panel kind must be one of {PANEL_KINDS}; got {self.kind!r}.")
+        if self.kind in ("samples", "blend") and self.background is None:
+            raise ValueError(f"a {self.kind!r} panel needs background= (the color image).")
 
 
 def to_rgb8(rgb: np.ndarray) -> np.ndarray:
@@ -37,8 +104,14 @@ def to_rgb8(rgb: np.ndarray) -> np.ndarray:
 
 
 def depth_limits(*depths: np.ndarray) -> tuple[float, float]:
-    """Common (min, max) of the finite values of several depth maps, for one color scale."""
-    finite = [d[np.isfinite(d)] for d in depths]
+    """Common (min, max) of the finite values of several depth maps, for one color scale.
+
+    Examples
+    --------
+    >>> depth_limits(np.array([1.0, np.nan]), np.array([3.0]))
+    (1.0, 3.0)
+    """
+    finite = [d[np.isfinite(d)] for d in (np.asarray(d, dtype=np.float64) for d in depths)]
     finite = [f for f in finite if f.size]
     if not finite:
         return 0.0, 1.0
@@ -47,23 +120,27 @@ def depth_limits(*depths: np.ndarray) -> tuple[float, float]:
     return (lo, hi) if hi > lo else (lo, lo + 1.0)
 
 
-def colorize_depth(depth: np.ndarray, *, limits: tuple[float, float] | None = None) -> np.ndarray:
-    """Depth (NaN = invalid) as an RGB uint8 image with the turbo colormap.
+def colorize_depth(depth: np.ndarray, *, limits: tuple[float, float] | None = None,
+                   colormap: str = DEPTH_COLORMAP) -> np.ndarray:
+    """Depth (NaN = invalid) as an RGB uint8 image with :data:`DEPTH_COLORMAP`; invalid pixels gray.
 
-    Larger values are drawn warmer. Invalid pixels are black.
+    For pictures with a colorbar use :func:`depth_figure`; this is the bare
+    image (e.g. for a video frame or an overlay of your own).
 
     Examples
     --------
-    >>> colorize_depth(np.array([[1.0, np.nan]], np.float32)).shape
-    (1, 2, 3)
+    >>> colorize_depth(np.array([[1.0, np.nan]], np.float32))[0, 1].tolist()
+    [128, 128, 128]
     """
+    if colormap not in _CV2_COLORMAPS:
+        raise ValueError(f"colormap must be one of {sorted(_CV2_COLORMAPS)}; got {colormap!r}.")
     depth = np.asarray(depth, dtype=np.float32)
     lo, hi = depth_limits(depth) if limits is None else limits
     valid = np.isfinite(depth)
     scaled = np.zeros(depth.shape, dtype=np.uint8)
     scaled[valid] = np.clip((depth[valid] - lo) / max(hi - lo, 1e-12) * 255.0 + 0.5, 0, 255).astype(np.uint8)
-    rgb = cv2.cvtColor(cv2.applyColorMap(scaled, DEPTH_COLORMAP), cv2.COLOR_BGR2RGB)
-    rgb[~valid] = 0
+    rgb = cv2.cvtColor(cv2.applyColorMap(scaled, _CV2_COLORMAPS[colormap]), cv2.COLOR_BGR2RGB)
+    rgb[~valid] = INVALID_COLOR
     return rgb
 
 
@@ -86,84 +163,292 @@ def colorize_labels(labels: np.ndarray, patch_index: np.ndarray | None = None) -
     return palette[ids]
 
 
-def blend(depth_rgb: np.ndarray, rgb: np.ndarray, alpha: float = 0.5) -> np.ndarray:
-    """Alpha-blend a colorized depth map over the color image (thesis Figs. 22, 42)."""
-    color = to_rgb8(rgb)
-    return cv2.addWeighted(depth_rgb, alpha, color, 1.0 - alpha, 0.0)
+def spread_samples(sparse_depth: np.ndarray, *, radius: int | None = None) -> np.ndarray:
+    """Sparse depth samples (NaN between them) grown into square dots, to be seen in a picture.
 
+    ``radius`` defaults to a quarter of the row spacing of the samples. Where
+    dots overlap, the larger value wins (deterministic).
 
-def overlay_sparse(sparse_depth: np.ndarray, rgb: np.ndarray, *, limits: tuple[float, float] | None = None,
-                   radius: int | None = None) -> np.ndarray:
-    """The spread depth samples drawn as colored dots over the color image (Fig. 37a)."""
-    color = (to_rgb8(rgb).astype(np.float32) * 0.6).astype(np.uint8)
-    valid = np.isfinite(sparse_depth)
-    dots = colorize_depth(sparse_depth, limits=limits or depth_limits(sparse_depth))
+    Examples
+    --------
+    >>> d = np.full((5, 5), np.nan, np.float32); d[2, 2] = 7
+    >>> int(np.isfinite(spread_samples(d, radius=1)).sum())
+    9
+    """
+    sparse = np.asarray(sparse_depth, dtype=np.float32)
+    valid = np.isfinite(sparse)
     if radius is None:
         rows = np.flatnonzero(valid.any(axis=1))
         step = int(np.min(np.diff(rows))) if len(rows) > 1 else 1
         radius = max(0, step // 4)
-    if radius > 0:
-        size = 2 * radius + 1
-        kernel = np.ones((size, size), np.uint8)
-        grown = cv2.dilate(valid.astype(np.uint8), kernel) > 0
-        dots = cv2.dilate(dots, kernel)
-        valid = grown
-    out = color.copy()
-    out[valid] = dots[valid]
-    return out
+    if radius <= 0 or not valid.any():
+        return sparse.copy()
+    kernel = np.ones((2 * radius + 1, 2 * radius + 1), np.uint8)
+    floor = np.float32(np.min(sparse[valid]) - 1.0)
+    grown = cv2.dilate(np.where(valid, sparse, floor).astype(np.float32), kernel)
+    covered = cv2.dilate(valid.astype(np.uint8), kernel) > 0
+    return np.where(covered, grown, np.nan).astype(np.float32)
+
+
+def _colormap(name: str, *, invalid: tuple[int, int, int] | None):
+    """A copy of matplotlib's colormap ``name`` drawing masked pixels as ``invalid`` (None: transparent)."""
+    import matplotlib
+
+    bad = (0, 0, 0, 0) if invalid is None else tuple(c / 255.0 for c in invalid) + (1.0,)
+    return matplotlib.colormaps[name].with_extremes(bad=bad)
+
+
+def _crop(array: np.ndarray | None, zoom: tuple[int, int, int, int] | None, detail: bool):
+    if array is None or not detail or zoom is None:
+        return array
+    r0, r1, c0, c1 = zoom
+    return array[r0:r1, c0:c1]
+
+
+def _display_size(image: np.ndarray, max_cols: int) -> np.ndarray:
+    """``image`` reduced by a whole factor to at most about ``max_cols`` columns (area average).
+
+    Depth and error maps average only their valid pixels; a reduced pixel is
+    invalid when less than half of its block was valid. Drawing a picture
+    this size looks the same as the full one and costs a fraction of it.
+    """
+    factor = image.shape[1] // max(1, max_cols)
+    if factor < 2:
+        return image
+    rows, cols = image.shape[0] // factor, image.shape[1] // factor
+    if rows < 1:
+        return image
+    size = (cols, rows)
+    if image.ndim == 3:
+        return cv2.resize(to_rgb8(image), size, interpolation=cv2.INTER_AREA)
+    values = np.asarray(image, dtype=np.float32)
+    valid = np.isfinite(values)
+    total = cv2.resize(np.where(valid, values, 0).astype(np.float32), size, interpolation=cv2.INTER_AREA)
+    share = cv2.resize(valid.astype(np.float32), size, interpolation=cv2.INTER_AREA)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(share >= 0.5, total / share, np.nan).astype(np.float32)
+
+
+def _extend(values: list[np.ndarray], lo: float, hi: float) -> str:
+    """Colorbar arrows: "min", "max", "both" or "neither", by whether any panel leaves [lo, hi]."""
+    below = any(bool((v[np.isfinite(v)] < lo).any()) for v in values)
+    above = any(bool((v[np.isfinite(v)] > hi).any()) for v in values)
+    return {(False, False): "neither", (True, False): "min", (False, True): "max"}.get((below, above), "both")
+
+
+def figure_grid(
+    rows: Sequence[Sequence[Panel | None]],
+    *,
+    units: str,
+    limits: tuple[float, float] | None = None,
+    error_max: float | None = None,
+    zoom: tuple[int, int, int, int] | None = None,
+    title: str | None = None,
+    panel_width: float = 2.6,
+    dpi: int = 110,
+):
+    """A grid of panels with one depth colorbar, one error colorbar and the invalid-pixel legend.
+
+    Parameters
+    ----------
+    rows : sequence of sequences of Panel or None
+        The grid, row by row (None leaves a cell empty; rows may differ in length).
+    units : str
+        The depth's units, written on the colorbar (e.g. ``"mm"``, ``"disparity levels"``).
+    limits : (min, max), optional
+        Range of every depth panel (default: the common range of the depth
+        panels that are not details). Values beyond it saturate and the
+        colorbar shows an arrow.
+    error_max : float, optional
+        Upper end of the error colorbar (default: the largest error shown).
+    zoom : (row0, row1, col0, col1), optional
+        The detail window: drawn as a white rectangle outlined in black on the full panels,
+        shown enlarged on the ``detail=True`` panels.
+    title : str, optional
+    panel_width : float
+        Width of one column, inches.
+    dpi : int
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Each panel's axes has the label ``"panel:<kind>"`` (``"panel:<kind>:detail"``
+        for details); every depth-kind image shares one ``Normalize`` and the
+        depth colorbar is built from it.
+
+    Examples
+    --------
+    >>> d = np.array([[1.0, 2.0], [np.nan, 4.0]], np.float32)
+    >>> fig = figure_grid([[Panel("depth", d)]], units="m")
+    >>> fig.axes[0].get_images()[0].get_clim()
+    (1.0, 4.0)
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch, Rectangle
+    from matplotlib.patheffects import withStroke
+    from matplotlib.colors import Normalize
+
+    grid = [list(r) for r in rows]
+    cells = [p for r in grid for p in r if p is not None]
+    if not cells:
+        raise ValueError("figure_grid needs at least one panel.")
+    if any(p.detail for p in cells) and zoom is None:
+        raise ValueError("detail panels need zoom=(row0, row1, col0, col1).")
+    depth_values = [p.image for p in cells if p.kind in _DEPTH_KINDS]
+    full_depth = [p.image for p in cells if p.kind in _DEPTH_KINDS and not p.detail] or depth_values
+    lo, hi = limits if limits is not None else depth_limits(*full_depth)
+    depth_norm = Normalize(vmin=lo, vmax=hi)
+    errors = [p.image for p in cells if p.kind == "error"]
+    if error_max is None:
+        error_max = depth_limits(*errors)[1] if errors else 1.0
+    error_norm = Normalize(vmin=0.0, vmax=float(error_max))
+
+    ncols = max(len(r) for r in grid)
+
+    def aspect(p: Panel) -> float:
+        h, w = _crop(p.image, zoom, p.detail).shape[:2]
+        return h / max(w, 1)
+
+    heights = [max(aspect(p) for p in r if p is not None) if any(p is not None for p in r) else 0.2 for r in grid]
+    fig = Figure(figsize=(panel_width * ncols + 1.3, panel_width * sum(heights) + 0.4 * len(grid) + 0.6),
+                 dpi=dpi, layout="constrained")
+    axes = fig.subplots(len(grid), ncols, squeeze=False, gridspec_kw={"height_ratios": heights})
+    depth_axes, error_axes, depth_image, error_image = [], [], None, None
+    for i, row in enumerate(grid):
+        for j in range(ncols):
+            ax = axes[i, j]
+            ax.set_axis_off()
+            ax.set_xticks([])  # no tick work at layout time (it dominates drawing many panels)
+            ax.set_yticks([])
+            panel = row[j] if j < len(row) else None
+            if panel is None:
+                continue
+            ax.set_label(f"panel:{panel.kind}" + (":detail" if panel.detail else ""))
+            max_cols = int(2 * panel_width * dpi)
+            image = _crop(panel.image, zoom, panel.detail)
+            background = _crop(panel.background, zoom, panel.detail)
+            if panel.kind == "samples" and not panel.detail:
+                image = spread_samples(image)
+            image = _display_size(image, max_cols)
+            background = None if background is None else _display_size(background, max_cols)
+            scale = panel.image.shape[1] / image.shape[1] if not panel.detail else 1.0
+            nearest = "nearest" if panel.detail else "antialiased"
+            if panel.kind == "color":
+                ax.imshow(to_rgb8(image), interpolation=nearest)
+            elif panel.kind == "error":
+                im = ax.imshow(np.ma.masked_invalid(image), cmap=_colormap(ERROR_COLORMAP, invalid=INVALID_COLOR),
+                               norm=error_norm, interpolation=nearest)
+                error_axes.append(ax)
+                error_image = error_image or im
+            else:
+                if panel.kind == "depth":
+                    cmap, alpha = _colormap(DEPTH_COLORMAP, invalid=INVALID_COLOR), None
+                else:
+                    dim = 0.6 if panel.kind == "samples" else 1.0
+                    ax.imshow((to_rgb8(background).astype(np.float32) * dim).astype(np.uint8), interpolation=nearest)
+                    cmap, alpha = _colormap(DEPTH_COLORMAP, invalid=None), (0.5 if panel.kind == "blend" else None)
+                im = ax.imshow(np.ma.masked_invalid(image), cmap=cmap, norm=depth_norm, alpha=alpha,
+                               interpolation="nearest" if panel.kind == "samples" else nearest)
+                depth_axes.append(ax)
+                depth_image = depth_image or im
+            if zoom is not None and not panel.detail:
+                r0, r1, c0, c1 = zoom
+                ax.add_patch(Rectangle(((c0 - 0.5) / scale, (r0 - 0.5) / scale), (c1 - c0) / scale, (r1 - r0) / scale,
+                                       fill=False, edgecolor="white", linewidth=1.0,
+                                       path_effects=[withStroke(linewidth=2.2, foreground="black")]))
+            ax.set_title(panel.title, fontsize=8.5)
+    # One kind: its bar on the right; depth and error side by side: each bar above its panels.
+    where = dict(location="top", shrink=0.6, aspect=40, pad=0.01) if depth_axes and error_axes else \
+        dict(location="right", shrink=0.8, aspect=30, pad=0.02)
+    if depth_image is not None:
+        cbar = fig.colorbar(depth_image, ax=depth_axes, **where,
+                            extend=_extend(depth_values, lo, hi))
+        cbar.set_label(f"depth ({units})" if units else "depth", fontsize=9)
+        cbar.ax.set_label("colorbar:depth")
+    if error_image is not None:
+        cbar = fig.colorbar(error_image, ax=error_axes, **where,
+                            extend=_extend(errors, 0.0, float(error_max)))
+        cbar.set_label(f"|error| ({units})" if units else "|error|", fontsize=9)
+        cbar.ax.set_label("colorbar:error")
+    if any(p.kind in ("depth", "error") for p in cells):  # the kinds that draw missing pixels gray
+        swatch = Patch(facecolor=tuple(c / 255.0 for c in INVALID_COLOR), edgecolor="black", linewidth=0.5,
+                       label=INVALID_LABEL)
+        fig.legend(handles=[swatch], loc="outside upper right" if where["location"] == "top" else "outside lower right",
+                   fontsize=8, frameon=False)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return fig
 
 
 def comparison_figure(
     rgb: np.ndarray,
     panels: Sequence[tuple[str, np.ndarray]],
     *,
+    units: str,
     zoom: tuple[int, int, int, int] | None = None,
     limits: tuple[float, float] | None = None,
     title: str | None = None,
+    ncols: int = 4,
 ):
-    """A figure like the thesis's Fig. 47: the color image and depth panels, each with a zoomed detail.
+    """The color image and depth panels on one scale, ``ncols`` to a row, each row followed by its details.
 
     Parameters
     ----------
     rgb : (H, W, 3) ndarray
         The color image (first panel).
-    panels : sequence of (caption, (H, W) depth)
-        Depth maps on the color grid, drawn with one shared color scale.
+    panels : sequence of (title, (H, W) depth)
+        Depth maps on the color grid (titles should carry the RMSE).
+    units : str
+        The depth's units, for the colorbar.
     zoom : (row0, row1, col0, col1), optional
-        The detail region, marked on every panel and shown enlarged below it.
+        The detail window, marked on every panel and shown enlarged below it.
     limits : (min, max), optional
-        The depth color scale (default: common range of the panels).
+        The depth range (default: the common range of the panels).
     title : str, optional
+    ncols : int
+        Panels per row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        See :func:`figure_grid`.
+    """
+    if ncols < 1:
+        raise ValueError(f"ncols must be >= 1; got {ncols}.")
+    items = [Panel("color", rgb, "color")] + [Panel(t, d, "depth") for t, d in panels]
+    rows: list[list[Panel | None]] = []
+    for start in range(0, len(items), ncols):
+        row = items[start:start + ncols]
+        rows.append(row)
+        if zoom is not None:
+            rows.append([Panel(f"detail: {p.title.splitlines()[0]}", p.image, p.kind, detail=True) for p in row])
+    return figure_grid(rows, units=units, limits=limits, zoom=zoom, title=title)
+
+
+def depth_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str, title: str | None = None,
+                 limits: tuple[float, float] | None = None):
+    """One depth map with its colorbar, beside its color image when given (``show``, ``--preview``).
+
+    Parameters
+    ----------
+    depth : (H, W) ndarray
+        NaN (or 0 read from a file, turned into NaN by the caller) = no measurement.
+    rgb : (h, w, 3) ndarray, optional
+        Shown to the left, at its own resolution.
+    units : str
+    title : str, optional
+    limits : (min, max), optional
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.figure import Figure
-    from matplotlib.patches import Rectangle
-
-    limits = limits or depth_limits(*[d for _, d in panels])
-    images = [("color", to_rgb8(rgb))] + [(cap, colorize_depth(d, limits=limits)) for cap, d in panels]
-    n = len(images)
-    rows = 2 if zoom is not None else 1
-    h, w = images[0][1].shape[:2]
-    fig = Figure(figsize=(3.2 * n, 3.2 * h / w * rows + 0.8), dpi=150, layout="constrained")
-    axes = fig.subplots(rows, n, squeeze=False)
-    for col, (caption, img) in enumerate(images):
-        ax = axes[0, col]
-        ax.imshow(img, interpolation="nearest")
-        ax.set_title(caption, fontsize=9)
-        ax.set_axis_off()
-        if zoom is not None:
-            r0, r1, c0, c1 = zoom
-            ax.add_patch(Rectangle((c0, r0), c1 - c0, r1 - r0, fill=False, edgecolor="white", linewidth=1.2))
-            axz = axes[1, col]
-            axz.imshow(img[r0:r1, c0:c1], interpolation="nearest")
-            axz.set_title(f"detail of {caption.split(chr(10))[0]}", fontsize=8)
-            axz.set_axis_off()
-    if title:
-        fig.suptitle(title, fontsize=10)
-    return fig
+    depth = np.asarray(depth, dtype=np.float32)
+    valid = int(np.isfinite(depth).sum())
+    caption = f"depth {depth.shape[1]}x{depth.shape[0]}, {100.0 * valid / max(depth.size, 1):.1f}% measured"
+    row = ([Panel(f"color {rgb.shape[1]}x{rgb.shape[0]}", rgb, "color")] if rgb is not None else [])
+    row.append(Panel(caption, depth, "depth"))
+    return figure_grid([row], units=units, limits=limits, title=title, panel_width=4.2)
 
 
 def pick_detail(depth: np.ndarray, *, size: tuple[int, int] | None = None) -> tuple[int, int, int, int]:

@@ -28,13 +28,11 @@ import statistics
 from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
-import cv2
 import numpy as np
 
 from .protocols import PROTOCOLS, left_out_reason
 from .runner import METRICS, ROW_FIELDS, BenchCase, BenchRow, mean_and_count, mean_or_nan
 from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
-from ..viz import colorize_depth, depth_limits, to_rgb8
 
 __all__ = [
     "Table",
@@ -45,6 +43,8 @@ __all__ = [
     "published_table",
     "choose_zoom",
     "error_map",
+    "best_cells",
+    "PROTOCOL_UNITS",
     "scene_figure",
     "rmse_scale_figure",
     "html_page",
@@ -59,8 +59,15 @@ _METRIC_TITLES = {
     "coverage": "coverage (%)",
 }
 
-#: Error maps are drawn from 0 to this many levels (larger errors saturate).
+#: Error maps are drawn from 0 to this many depth units (larger errors saturate).
 ERROR_MAP_MAX = 10.0
+#: The depth's units per protocol, for colorbars.
+PROTOCOL_UNITS = {
+    "park": "disparity levels",
+    "tof": "disparity levels",
+    "middlebury30": "0..255 depth units",
+    "lu": "0..255 depth units",
+}
 
 
 @dataclass(frozen=True)
@@ -251,13 +258,68 @@ def _csv_cell(value: Any) -> str:
     return str(value)
 
 
+def _number(cell: str) -> float | None:
+    """The number a table cell shows ("5.45", "5.45 (n=2)"), None for "–" and words."""
+    head = cell.split(" ", 1)[0]
+    try:
+        value = float(head)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
+
+
+#: What the tables' readers need to know about "better".
+_BETTER = ("Lower is better, except coverage (higher is better); the best value of each column (per scale in "
+           "the all-metrics tables) is in bold on green.")
+#: Columns where a larger value is better (everything else: smaller is better).
+_HIGHER_IS_BETTER = (_METRIC_TITLES["coverage"],)
+#: Columns that are not scores (never highlighted).
+_NOT_SCORES = ("method", "scale", "images")
+
+
+def best_cells(table: Table) -> frozenset[tuple[int, int]]:
+    """``(row, column)`` of the best value in each score column of ``table``.
+
+    Smaller is better except in :data:`_HIGHER_IS_BETTER` columns; when the
+    table has a ``scale`` column, the best is taken per scale. Ties are all
+    marked; a column with fewer than two numbers has no best.
+
+    Examples
+    --------
+    >>> t = Table("t", ("method", "×4"), (("a", "2.00"), ("b", "1.00 (n=1)"), ("c", "–")))
+    >>> sorted(best_cells(t))
+    [(1, 1)]
+    """
+    header = table.header
+    group_col = header.index("scale") if "scale" in header else None
+    best: set[tuple[int, int]] = set()
+    for col, name in enumerate(header):
+        if col == 0 or name in _NOT_SCORES:
+            continue
+        sign = -1.0 if name in _HIGHER_IS_BETTER else 1.0
+        groups: dict[str, list[tuple[float, int]]] = {}
+        for row, cells in enumerate(table.body):
+            value = _number(cells[col])
+            if value is not None:
+                key = cells[group_col] if group_col is not None else ""
+                groups.setdefault(key, []).append((sign * value, row))
+        for values in groups.values():
+            if len(values) < 2:
+                continue
+            top = min(v for v, _ in values)
+            best.update((row, col) for v, row in values if v == top)
+    return frozenset(best)
+
+
 def _markdown_table(table: Table) -> str:
     lines = [f"### {table.title}", ""]
     if table.note:
         lines += [f"_{table.note}_", ""]
     lines.append("| " + " | ".join(table.header) + " |")
     lines.append("|" + "|".join("---" if i == 0 else "---:" for i in range(len(table.header))) + "|")
-    lines += ["| " + " | ".join(row) + " |" for row in table.body]
+    best = best_cells(table)
+    lines += ["| " + " | ".join(f"**{c}**" if (i, j) in best else c for j, c in enumerate(row)) + " |"
+              for i, row in enumerate(table.body)]
     return "\n".join(lines) + "\n"
 
 
@@ -301,7 +363,7 @@ def summary_markdown(
     out = ["# depthrefine benchmark", ""]
     n_cases = len({(r.protocol, r.scene, r.scale) for r in rows})
     out.append(f"{len(rows)} runs: {len(_methods_in_order(rows))} methods on {n_cases} cases "
-               f"(protocol, scene, scale). Every score is in `scores.csv`. Lower is better everywhere.")
+               f"(protocol, scene, scale). Every score is in `scores.csv`. {_BETTER.replace('in bold on green', 'in bold')}")
     out.append("")
     for note in notes:
         out.append(f"- {note}")
@@ -357,71 +419,65 @@ def choose_zoom(depth_gt: np.ndarray, *, fraction: float = 0.25) -> tuple[int, i
     return r0, r0 + wr, c0, c0 + wc
 
 
-def error_map(depth_pred: np.ndarray, depth_gt: np.ndarray, *, vmax: float = ERROR_MAP_MAX,
-              border: int = 0) -> np.ndarray:
-    """``|pred - gt|`` as RGB uint8 (inferno, 0..``vmax``); unscored pixels black.
+def error_map(depth_pred: np.ndarray, depth_gt: np.ndarray, *, border: int = 0) -> np.ndarray:
+    """``|pred - gt|`` as float32, NaN where a pixel is not scored (no ground truth, border, no prediction).
 
     Examples
     --------
-    >>> error_map(np.array([[1.0, 5.0]]), np.array([[1.0, np.nan]])).tolist()
-    [[[0, 0, 4], [0, 0, 0]]]
+    >>> error_map(np.array([[1.0, 5.0, 2.0]]), np.array([[1.5, np.nan, 2.0]])).tolist()
+    [[0.5, nan, 0.0]]
     """
     gt = np.asarray(depth_gt, dtype=np.float64)
     pred = np.asarray(depth_pred, dtype=np.float64)
     scored = valid_mask(gt, border=border) & np.isfinite(pred)
-    err = np.zeros(gt.shape, np.uint8)
-    err[scored] = np.clip(np.abs(pred[scored] - gt[scored]) / vmax * 255.0 + 0.5, 0, 255).astype(np.uint8)
-    rgb = cv2.cvtColor(cv2.applyColorMap(err, cv2.COLORMAP_INFERNO), cv2.COLOR_BGR2RGB)
-    rgb[~scored] = 0
-    return rgb
+    err = np.full(gt.shape, np.nan, np.float32)
+    err[scored] = np.abs(pred[scored] - gt[scored])
+    return err
 
 
 def scene_figure(case: BenchCase, results: Mapping[str, np.ndarray], *,
-                 rmse: Mapping[str, float] | None = None, zoom: tuple[int, int, int, int] | None = None):
-    """Color, ground truth, each method's result and its error map, each with the same detail.
+                 rmse: Mapping[str, float] | None = None, zoom: tuple[int, int, int, int] | None = None,
+                 units: str | None = None):
+    """Ground truth, color, and per method its result and error map, each beside the same zoomed detail.
 
-    Rows: full depth, full error map, zoomed depth, zoomed error. Depth maps
-    share the ground truth's color scale; error maps go from 0 (black) to
-    :data:`ERROR_MAP_MAX` levels (yellow).
+    One row per method: result, detail, ``|error|``, detail. Results share
+    the ground truth's range and one depth colorbar; error maps go from 0 to
+    :data:`ERROR_MAP_MAX` (larger errors saturate) with their own colorbar;
+    pixels that are not scored are gray (:mod:`depthrefine.viz`).
+
+    Parameters
+    ----------
+    case : BenchCase
+    results : mapping
+        ``{method: (H, W) depth}``.
+    rmse : mapping, optional
+        ``{method: RMSE}``, put in the row titles.
+    zoom : (row0, row1, col0, col1), optional
+        Default: :func:`choose_zoom` on the ground truth.
+    units : str, optional
+        Default: the protocol's (:data:`PROTOCOL_UNITS`).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.figure import Figure
-    from matplotlib.patches import Rectangle
+    from ..viz import Panel, depth_limits, figure_grid
 
     zoom = choose_zoom(case.depth_gt) if zoom is None else zoom
-    r0, r1, c0, c1 = zoom
-    limits = depth_limits(case.depth_gt)
-    columns = [("color", to_rgb8(case.rgb_hr), None),
-               ("ground truth", colorize_depth(case.depth_gt, limits=limits), None)]
+    units = units or PROTOCOL_UNITS.get(case.protocol, "depth units")
+    rows = [[Panel("ground truth", case.depth_gt), Panel("detail", case.depth_gt, detail=True),
+             Panel("color", case.rgb_hr, "color"), Panel("detail", case.rgb_hr, "color", detail=True)]]
     for method, depth in results.items():
-        caption = method if rmse is None or method not in rmse else f"{method}\nRMSE {rmse[method]:.2f}"
-        columns.append((caption, colorize_depth(depth, limits=limits),
-                        error_map(depth, case.depth_gt, border=case.border)))
-    n = len(columns)
-    h, w = case.depth_gt.shape
-    panel = 1.7
-    fig = Figure(figsize=(panel * n, panel * (h / w * 2 + (r1 - r0) / (c1 - c0) * 2) + 0.9), dpi=100,
-                 layout="constrained")
-    axes = fig.subplots(4, n, squeeze=False)
-    for col, (caption, image, err) in enumerate(columns):
-        panels = (image, err, image[r0:r1, c0:c1], None if err is None else err[r0:r1, c0:c1])
-        for row, img in enumerate(panels):
-            ax = axes[row, col]
-            ax.set_axis_off()
-            if img is None:
-                continue
-            ax.imshow(img, interpolation="nearest" if row >= 2 else "antialiased")
-            if row < 2:
-                ax.add_patch(Rectangle((c0, r0), c1 - c0, r1 - r0, fill=False, edgecolor="white", linewidth=0.8))
-        axes[0, col].set_title(caption, fontsize=7)
-    axes[1, 0].text(0.5, 0.5, f"error maps:\nblack 0 → yellow\n≥ {ERROR_MAP_MAX:g} levels",
-                    ha="center", va="center", fontsize=7, transform=axes[1, 0].transAxes)
-    fig.suptitle(f"{case.protocol} · {case.scene} · ×{case.scale}: results (rows 1, 3) and |error| (rows 2, 4); "
-                 f"rows 3-4 zoom on rows {r0}-{r1}, cols {c0}-{c1}", fontsize=8)
-    return fig
+        score = "" if rmse is None or method not in rmse else f": RMSE {rmse[method]:.2f}"
+        err = error_map(depth, case.depth_gt, border=case.border)
+        rows.append([Panel(f"{method}{score}", depth), Panel(f"{method}, detail", depth, detail=True),
+                     Panel(f"{method}: |error|", err, "error"), Panel(f"{method}: |error|, detail", err, "error",
+                                                                        detail=True)])
+    r0, r1, c0, c1 = zoom
+    return figure_grid(rows, units=units, limits=depth_limits(case.depth_gt), error_max=ERROR_MAP_MAX, zoom=zoom,
+                       panel_width=2.2, dpi=100,
+                       title=f"{case.protocol} · {case.scene} · ×{case.scale}: results and |error| against the "
+                             f"ground truth; details: rows {r0}-{r1}, cols {c0}-{c1}")
 
 
 def rmse_scale_figure(rows: Sequence[BenchRow]):
@@ -454,10 +510,14 @@ def rmse_scale_figure(rows: Sequence[BenchRow]):
 
 def _html_table(table: Table) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in table.header)
-    body = "\n".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in table.body)
+    best = best_cells(table)
+    body = "\n".join(
+        "<tr>" + "".join(f'<td class="best">{html.escape(c)}</td>' if (i, j) in best else f"<td>{html.escape(c)}</td>"
+                         for j, c in enumerate(row)) + "</tr>"
+        for i, row in enumerate(table.body))
     note = f'<p class="note">{html.escape(table.note)}</p>' if table.note else ""
-    return (f'<h3>{html.escape(table.title)}</h3>{note}\n<table class="scores">\n<thead><tr>{head}</tr></thead>\n'
-            f"<tbody>\n{body}\n</tbody></table>")
+    return (f'<h3>{html.escape(table.title)}</h3>{note}\n<div class="wide"><table class="scores">\n'
+            f"<thead><tr>{head}</tr></thead>\n<tbody>\n{body}\n</tbody></table></div>")
 
 
 def html_page(
@@ -478,12 +538,17 @@ def html_page(
     parts = [
         "<!DOCTYPE html>",
         '<html lang="en"><head><meta charset="utf-8"><title>depthrefine benchmark</title>',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
         "<style>body{font-family:sans-serif;margin:1.5em;max-width:1600px}"
+        ".wide{overflow-x:auto;max-width:100%}"
         "table.scores{border-collapse:collapse;margin:.5em 0 1.5em}"
-        "table.scores td,table.scores th{border:1px solid #bbb;padding:2px 8px;text-align:right}"
+        "table.scores td,table.scores th{border:1px solid #bbb;padding:2px 8px;text-align:right;white-space:nowrap}"
         "table.scores td:first-child,table.scores th:first-child{text-align:left}"
-        ".note{color:#555;font-size:90%}figure{margin:1em 0}figure img{max-width:100%}"
-        "figcaption{font-size:90%;color:#333}</style>",
+        "table.scores td.best{font-weight:bold;background:#d9f2d9}"
+        ".note{color:#555;font-size:90%}figure{margin:1em 0}figure img{max-width:100%;height:auto}"
+        "figure a{display:inline-block;cursor:zoom-in}"
+        "figcaption{font-size:90%;color:#333}"
+        "@media (max-width:600px){body{margin:.6em}h1{font-size:1.4em}}</style>",
         "<script>window.addEventListener('load',function(){var n=0;for(var i=0;i<document.images.length;i++)"
         "{var im=document.images[i];if(im.complete&&im.naturalWidth>0){n++;}}"
         "document.body.setAttribute('data-images-loaded',String(n));});</script>",
@@ -491,7 +556,7 @@ def html_page(
         "<h1>depthrefine benchmark</h1>",
         f'<p>Every score: <a href="{html.escape(csv_name)}">{html.escape(csv_name)}</a>; '
         f'the same summary as Markdown: <a href="{html.escape(markdown_name)}">{html.escape(markdown_name)}</a>. '
-        "Lower is better everywhere.</p>",
+        f"{_BETTER}</p>",
     ]
     if notes:
         parts.append("<ul>" + "".join(f"<li>{html.escape(n)}</li>" for n in notes) + "</ul>")
@@ -505,12 +570,13 @@ def html_page(
             parts.append(f"<li><code>{html.escape(method)}</code>: {html.escape(text)}</li>")
         parts.append("</ul>")
     if plot:
-        parts.append(f'<h2>RMSE against scale</h2><figure><img class="plot" src="{html.escape(plot)}" '
-                     'alt="mean RMSE against scale per method"></figure>')
+        parts.append(f'<h2>RMSE against scale</h2><figure><a href="{html.escape(plot)}"><img class="plot" '
+                     f'src="{html.escape(plot)}" alt="mean RMSE against scale per method"></a></figure>')
     if figures:
-        parts.append('<h2 id="figures">Figures</h2>')
+        parts.append('<h2 id="figures">Figures</h2><p class="note">Click a figure to open it at full size.</p>')
         for caption, name in figures:
-            parts.append(f'<figure class="scene"><img src="{html.escape(name)}" alt="{html.escape(caption)}">'
-                         f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+            parts.append(f'<figure class="scene"><a href="{html.escape(name)}"><img src="{html.escape(name)}" '
+                         f'alt="{html.escape(caption)}"></a>'
+                         f"<figcaption>{html.escape(caption)} (click to enlarge)</figcaption></figure>")
     parts.append("</body></html>")
     return "\n".join(parts) + "\n"

@@ -30,6 +30,7 @@ __all__ = ["main", "build_parser", "CliError"]
 #: Subcommand modules, in the order ``--help`` lists them.
 COMMAND_MODULES = [
     "refine",
+    "show",
     "demo",
     "calibrate",
     "align",

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import re
 import sys
 from typing import Any, Callable, Mapping
 
-from ..io import read_mapping, read_patch_layout
-from ..methods.registry import METHODS, get_method
+import numpy as np
+
+from ..io import read_mapping, read_patch_layout, scale_to_dtype
+from ..methods.registry import DEFAULT_METHOD, METHODS, get_method
 from ..methods.thesis.params import params_from_mapping
 
 __all__ = [
@@ -18,7 +21,13 @@ __all__ = [
     "add_params_options",
     "add_depth_options",
     "add_shared_options",
+    "add_units_option",
+    "add_output_format_options",
+    "add_deprecated_alias",
     "build_params",
+    "depth_units_label",
+    "output_depth",
+    "parse_range",
     "parse_grid",
     "parse_count",
     "parse_pixel_count",
@@ -35,10 +44,10 @@ def add_overwrite(parser: argparse.ArgumentParser) -> None:
 
 
 def parse_grid(text: str) -> tuple[int, int]:
-    """``"4x4"`` -> ``(4, 4)`` (across x down)."""
+    """``"6x4"`` -> ``(6, 4)``: columns first, then rows (as ``--board``)."""
     m = re.fullmatch(r"\s*(\d+)\s*[xX*]\s*(\d+)\s*", text)
     if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
-        raise argparse.ArgumentTypeError(f"expected ACROSSxDOWN such as 4x4; got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected COLSxROWS (columns first) such as 6x4; got {text!r}")
     return int(m.group(1)), int(m.group(2))
 
 
@@ -84,18 +93,110 @@ def add_depth_options(parser: argparse.ArgumentParser) -> None:
              "saturated pixels, as no measurement (default: a valid depth)")
 
 
-def add_params_options(parser: argparse.ArgumentParser) -> None:
-    """--method, --patches / --patch-file, --clusters, --params."""
-    parser.add_argument("--method", default="thesis", choices=sorted(METHODS),
-                        help="upsampling method (default: thesis)")
+def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "--method",
+                       method_help: str | None = None) -> None:
+    """The refinement method (``method_flag``, dest ``method``), --patches / --patch-file, --clusters, --params."""
+    parser.add_argument(method_flag, dest="method", default=DEFAULT_METHOD, choices=sorted(METHODS),
+                        help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD})")
     grid = parser.add_mutually_exclusive_group()
-    grid.add_argument("--patches", type=parse_grid, metavar="AxD",
-                      help="automatic patch grid, across x down (thesis default 4x4)")
+    grid.add_argument("--patches", type=parse_grid, metavar="COLSxROWS",
+                      help="automatic patch grid: COLS patches across, ROWS down, columns first as in --board "
+                           "(thesis default 4x4)")
     grid.add_argument("--patch-file", metavar="F",
                       help="manual patch layout: JSON list of [x, y, width, height] in color pixels")
     parser.add_argument("--clusters", type=parse_count, metavar="K", help="k-means clusters per patch (thesis: 4)")
     parser.add_argument("--params", metavar="FILE",
                         help="method parameters as TOML (or JSON): key = value per parameter")
+
+
+def add_units_option(parser: argparse.ArgumentParser, *, help: str | None = None) -> None:
+    """``--units LABEL``: the depth's units as a label for pictures and tables; it changes no value."""
+    parser.add_argument("--units", metavar="LABEL", help=help or (
+        "the depth's units, written on the pictures' colorbars (e.g. mm, m, 'disparity levels'); a label "
+        "only, no value changes (default: the file's type, e.g. 'uint16 values as stored')"))
+
+
+def depth_units_label(units: str | None, dtype: Any) -> str:
+    """``--units`` if given, else a label saying the values are as stored in a ``dtype`` file.
+
+    Examples
+    --------
+    >>> depth_units_label(None, np.uint16), depth_units_label("mm", np.uint16)
+    ('uint16 values as stored', 'mm')
+    """
+    return units if units else f"{np.dtype(dtype).name} values as stored"
+
+
+def parse_range(text: str) -> tuple[float, float]:
+    """``"0.5,4"`` -> ``(0.5, 4.0)``: MIN,MAX with MIN < MAX."""
+    try:
+        lo, hi = (float(p) for p in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected MIN,MAX such as 0.5,4; got {text!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise argparse.ArgumentTypeError(f"expected finite numbers MIN < MAX; got {text!r}")
+    return lo, hi
+
+
+def _positive_number(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number such as 1000; got {text!r}")
+    return value
+
+
+#: Types an output depth file can be given with --output-dtype.
+OUTPUT_DTYPES = ("uint8", "uint16", "float32")
+
+
+def add_output_format_options(parser: argparse.ArgumentParser) -> None:
+    """``--output-scale S`` and ``--output-dtype T``: how the result's values are stored."""
+    parser.add_argument(
+        "--output-scale", type=_positive_number, metavar="S",
+        help="multiply the result by S before writing it, e.g. 1000 to store metres as millimetres "
+             "(with --output-dtype uint16 for a 16-bit PNG); a value that would clip is an error")
+    parser.add_argument(
+        "--output-dtype", choices=OUTPUT_DTYPES,
+        help="type of the output file's values (default: DEPTH's); PNG holds uint8 and uint16")
+
+
+def output_depth(args: argparse.Namespace, depth: np.ndarray, input_dtype: Any) -> tuple[np.ndarray, np.dtype]:
+    """The depth to write and its dtype, after ``--output-scale`` / ``--output-dtype``.
+
+    Without either option: ``depth`` and the input's dtype, as always. With
+    one of them the conversion is explicit, so a value that the output type
+    cannot hold is an error (:func:`depthrefine.io.scale_to_dtype`) instead
+    of a silent clip.
+    """
+    dtype = np.dtype(args.output_dtype or input_dtype)
+    if args.output_scale is None and args.output_dtype is None:
+        return depth, dtype
+    scale = 1.0 if args.output_scale is None else args.output_scale
+    try:
+        return scale_to_dtype(depth, scale, dtype), dtype
+    except ValueError as exc:
+        raise ValueError(f"--output-scale {scale:g} --output-dtype {dtype}: {exc}") from None
+
+
+class _DeprecatedAlias(argparse.Action):
+    """An old spelling of an option: works like the new one after a one-line note on stderr."""
+
+    def __init__(self, option_strings, dest, *, new: str, **kwargs):
+        self.new = new
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"depthrefine: note: {option_string} is deprecated; use {self.new} (same meaning).", file=sys.stderr)
+        setattr(namespace, self.dest, values)
+
+
+def add_deprecated_alias(parser: argparse.ArgumentParser, old: str, *, new: str, dest: str, **kwargs: Any) -> None:
+    """Accept ``old`` as a hidden spelling of ``new`` (same ``dest``), printing a deprecation note when used."""
+    parser.add_argument(old, dest=dest, action=_DeprecatedAlias, new=new, help=argparse.SUPPRESS,
+                        default=argparse.SUPPRESS, **kwargs)
 
 
 def build_params(args: argparse.Namespace, *, method: str | None = None,

@@ -24,10 +24,16 @@ def add_units_options(p: argparse.ArgumentParser) -> None:
                             "(255 at z_min metres: C = 255 * z_min)")
 
 
-def add_align_options(p: argparse.ArgumentParser, *, method_flag: str) -> None:
-    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value)."""
-    p.add_argument(method_flag, dest="align_method", choices=ALIGN_METHODS, default=None,
-                   help="alignment: reproject (calibrated, any rig; default) or shift (the thesis's "
+def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argparse.Action] | None = None) -> None:
+    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value).
+
+    ``--method`` (dest ``align_method``) is the alignment method in both;
+    ``method_action`` replaces its plain store (it then checks the choices).
+    """
+    how: dict[str, Any] = ({"action": method_action, "metavar": "{" + ",".join(ALIGN_METHODS) + "}"}
+                           if method_action is not None else {"choices": ALIGN_METHODS})
+    p.add_argument("--method", dest="align_method", default=None, **how,
+                   help="alignment method: reproject (calibrated, any rig; default) or shift (the thesis's "
                         "horizontal shift: a parallel rig whose color image shows the depth camera's view; "
                         "refused when the background would land more than 1 depth pixel off)")
     add_units_options(p)

@@ -31,7 +31,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="aligned depth (.png, .tif, .npy)")
     p.add_argument("--rig", required=True, metavar="FILE",
                    help="rig file (calibrate-stereo) or chain settings file (TOML/JSON) with the rig")
-    add_align_options(p, method_flag="--method")
+    add_align_options(p)
     add_overwrite(p)
     add_depth_options(p)
     p.set_defaults(func=run_align)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 from pathlib import Path
@@ -10,14 +11,15 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
+from .._validate import as_depth
 from ..io import (DEPTH_SUFFIXES, check_depth_format, atomic_directory, check_output, check_output_dir, read_depth, read_rgb,
-                  write_depth, write_rgb)
+                  write_depth, write_figure, write_rgb)
 from ..methods.registry import get_method, refine
 from ..methods.thesis.refine import refine_with_intermediates
 from ..methods.scale import plan_scale
 from .. import viz
-from ._common import (add_depth_options, add_output, add_overwrite, add_params_options, build_params,
-                      params_dict, progress_bar)
+from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
+                      add_units_option, build_params, depth_units_label, output_depth, params_dict, progress_bar)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -26,7 +28,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="refine a low-resolution depth map to the color image's resolution",
         description=(
             "Refine DEPTH (8/16-bit PNG, float TIFF or .npy; 0 = no measurement) to the height and width "
-            "of COLOR. The output keeps DEPTH's dtype; its format follows OUT's extension."
+            "of COLOR. The output keeps DEPTH's dtype (unless --output-dtype); its format follows OUT's "
+            "extension. A float result goes to a 16-bit PNG with an explicit scale: --output-scale 1000 "
+            "--output-dtype uint16 stores metres as millimetres."
         ),
     )
     p.add_argument("depth", metavar="DEPTH", help="low-resolution depth map")
@@ -35,6 +39,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_params_options(p)
     p.add_argument("--save-intermediate", metavar="DIR",
                    help="write the pictures of the intermediate steps (and the parameters) into DIR")
+    p.add_argument("--preview", metavar="PNG",
+                   help="also write a picture of the result (colorbar in --units) beside the color image")
+    add_units_option(p)
+    add_output_format_options(p)
     add_overwrite(p)
     add_depth_options(p)
     p.set_defaults(func=run)
@@ -51,10 +59,16 @@ def run(args: argparse.Namespace) -> int:
                 "give the intermediate pictures a folder of their own."
             )
         check_output_dir(args.save_intermediate, overwrite=args.overwrite, what="--save-intermediate folder")
+    preview = None
+    if args.preview:
+        preview = check_output(args.preview, overwrite=args.overwrite, suffixes=(".png",),
+                               inputs=(args.depth, args.color), what="--preview file")
+        if preview.resolve() == out.resolve():
+            raise ValueError(f"-o {out} and --preview {args.preview} are the same file; give the picture its own name.")
     params = build_params(args)  # before reading the images: a bad parameter fails at once
     depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
-    check_depth_format(out, depth_lr.dtype)
+    check_depth_format(out, args.output_dtype or depth_lr.dtype)
     step = plan_scale(depth_lr.shape, rgb_hr.shape)
     entry = get_method(args.method)
     update, close = progress_bar(f"refine ({entry.name})")
@@ -83,33 +97,65 @@ def run(args: argparse.Namespace) -> int:
         "color_shape": list(rgb_hr.shape[:2]),
         "dtype": str(depth_lr.dtype),
     }
-    if args.save_intermediate:
-        with atomic_directory(args.save_intermediate, overwrite=args.overwrite) as tmp:
-            _write_intermediates(tmp, depth_hr, rgb_hr, result, record)
-            write_depth(out, depth_hr, dtype=depth_lr.dtype, overwrite=args.overwrite)
-    else:
-        write_depth(out, depth_hr, dtype=depth_lr.dtype, overwrite=args.overwrite)
+    stored, dtype = output_depth(args, depth_hr, depth_lr.dtype)
+    if dtype != depth_lr.dtype or args.output_scale is not None:
+        record.update(output_scale=args.output_scale or 1.0, output_dtype=str(dtype))
+    units = depth_units_label(args.units, depth_lr.dtype)
+    if args.output_scale not in (None, 1.0) and not args.units:
+        units += f" x {args.output_scale:g}"
+    shown = as_depth(stored, name="result") if stored is not depth_hr else depth_hr
+    written: list[Path] = []
+
+    def write_outputs() -> None:
+        written.append(write_depth(out, stored, dtype=dtype, overwrite=args.overwrite))
+        if preview is not None:
+            fig = viz.depth_figure(shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})")
+            written.append(write_figure(preview, fig, overwrite=args.overwrite))
+
+    try:
+        if args.save_intermediate:
+            with atomic_directory(args.save_intermediate, overwrite=args.overwrite) as tmp:
+                _write_intermediates(tmp, shown, rgb_hr, result, record, units=units,
+                                     factor=1.0 if args.output_scale is None else args.output_scale)
+                write_outputs()
+        else:
+            write_outputs()
+    except BaseException:
+        for path in written:  # all or nothing
+            with contextlib.suppress(OSError):
+                path.unlink()
+        raise
     h, w = depth_hr.shape
     if entry.name == "thesis" and step.resizes_color:
         scale_note = f"x{step.factor} after the thesis scale step (see the note above)"
-    print(f"wrote {out} ({w}x{h}, {depth_lr.dtype}, method {entry.name}, {scale_note})", file=sys.stderr)
+    print(f"wrote {out} ({w}x{h}, {dtype}, method {entry.name}, {scale_note})", file=sys.stderr)
+    if preview is not None:
+        print(f"wrote {preview}", file=sys.stderr)
     return 0
 
 
-def _write_intermediates(folder: Path, depth_hr, rgb_hr, result, record) -> None:
-    """The pictures of --save-intermediate, and the run's record as JSON."""
+def _write_intermediates(folder: Path, depth_hr, rgb_hr, result, record, *, units: str, factor: float = 1.0) -> None:
+    """The pictures of --save-intermediate (one depth range and colorbar in ``units``), and the run's record.
+
+    ``factor`` is --output-scale, so the sparse samples are drawn in the
+    same units as the result.
+    """
     limits = viz.depth_limits(depth_hr)
-    depth_rgb = viz.colorize_depth(depth_hr, limits=limits)
-    write_rgb(folder / "result_colorized.png", depth_rgb)
-    write_rgb(folder / "result_blended.png", viz.blend(depth_rgb, rgb_hr))
+
+    def picture(name: str, panel) -> None:
+        write_figure(folder / name, viz.figure_grid([[panel]], units=units, limits=limits, panel_width=6.0))
+
+    picture("result_colorized.png", viz.Panel("result", depth_hr, "depth"))
+    picture("result_blended.png", viz.Panel("result over the color image", depth_hr, "blend", background=rgb_hr))
     if result is not None:
         work_rgb = result.rgb_filtered
         write_rgb(folder / "color_filtered.png", viz.to_rgb8(work_rgb))
         write_rgb(folder / "cluster_labels.png", viz.colorize_labels(result.labels, result.patch_index))
-        write_rgb(folder / "sparse_depth_over_color.png",
-                  viz.overlay_sparse(result.sparse_depth, work_rgb, limits=limits))
-        write_rgb(folder / "corrected_depth_over_color.png",
-                  viz.overlay_sparse(result.corrected_sparse, work_rgb, limits=limits))
+        picture("sparse_depth_over_color.png", viz.Panel(
+            "depth samples over the filtered color (step 5)", result.sparse_depth * factor, "samples",
+            background=work_rgb))
+        picture("corrected_depth_over_color.png", viz.Panel(
+            "corrected depth samples (step 6)", result.corrected_sparse * factor, "samples", background=work_rgb))
         np.savez_compressed(
             folder / "intermediates.npz",
             labels=result.labels, patch_index=result.patch_index, labels_lr=result.labels_lr,

@@ -12,12 +12,35 @@ from typing import Any
 from ..rig.chain import align_pair
 from ..io import (DEPTH_SUFFIXES, check_depth_format, ChainSettings, check_output, read_depth,
                   read_rgb, write_chain_settings, write_depth, write_ply)
-from ..methods.registry import refine
+from ..methods.registry import DEFAULT_METHOD, METHODS, refine
+from ..rig.chain import ALIGN_METHODS
 from ..rig.pointcloud import depth_to_points
 from ..methods.scale import plan_scale
 from . import CliError
 from ._rig_options import add_align_options, chain_settings
-from ._common import add_depth_options, build_params, add_overwrite, add_params_options, params_dict, progress_bar
+from ._common import (add_deprecated_alias, add_depth_options, add_output_format_options, add_overwrite,
+                      add_params_options, build_params, output_depth, params_dict, progress_bar)
+
+
+class _AlignMethod(argparse.Action):
+    """``run --method``: the alignment method; a refinement method's name (the old meaning) still works.
+
+    Before ``--method`` named the alignment method in ``run`` as it does in
+    ``align``, it named the refinement method. The two sets of names do not
+    overlap, so an old command line keeps working, with a note.
+    """
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if values in ALIGN_METHODS:
+            namespace.align_method = values
+        elif values in METHODS:
+            print(f"depthrefine: note: run {option_string} {values} for the refinement method is deprecated; "
+                  f"use --refine-method {values} ({option_string} is the alignment method: "
+                  f"{', '.join(ALIGN_METHODS)}).", file=sys.stderr)
+            namespace.method = values
+        else:
+            parser.error(f"argument {option_string}: invalid choice: {values!r} (the alignment method: choose "
+                         f"from {', '.join(ALIGN_METHODS)}; the refinement method is --refine-method)")
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -40,12 +63,17 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="rig file (calibrate-stereo) or chain settings file (TOML/JSON)")
     p.add_argument("--settings", metavar="FILE",
                    help="chain settings file ([align], [refine]) when --rig is a plain rig file")
-    add_align_options(p, method_flag="--align")
-    add_params_options(p)
+    add_align_options(p, method_action=_AlignMethod)
+    add_deprecated_alias(p, "--align", new="--method", dest="align_method", choices=ALIGN_METHODS)
+    add_params_options(p, method_flag="--refine-method", method_help=(
+        f"refinement method, as refine --method (default: the settings file's [refine] method, else "
+        f"{DEFAULT_METHOD}); --method is the alignment method here, as in align"))
     p.set_defaults(method=None)
     p.add_argument("--ply", metavar="FILE", help="also write the refined depth as a colored point cloud (.ply)")
-    p.add_argument("--ply-stride", type=int, default=1, metavar="N",
-                   help="point cloud: keep every N-th row and column (default 1)")
+    p.add_argument("--stride", type=int, default=1, metavar="N",
+                   help="point cloud (--ply): keep every N-th row and column (default 1), as export-ply --stride")
+    add_deprecated_alias(p, "--ply-stride", new="--stride", dest="stride", type=int)
+    add_output_format_options(p)
     p.add_argument("--save-aligned", metavar="FILE",
                    help="also write the aligned low-resolution depth (before refinement)")
     p.add_argument("--save-settings", metavar="FILE",
@@ -59,10 +87,10 @@ def _refine_params(args: argparse.Namespace, chain: ChainSettings) -> tuple[str,
     """The refinement method and its parameters: the settings file's, then --params, then options.
 
     The file's ``[refine.params]`` apply only to the file's method (a
-    different ``--method`` starts from its own defaults).
+    different ``--refine-method`` starts from its own defaults).
     """
-    method = args.method or chain.method or "thesis"
-    base = chain.params if chain.params and method == (chain.method or "thesis") else None
+    method = args.method or chain.method or DEFAULT_METHOD
+    base = chain.params if chain.params and method == (chain.method or DEFAULT_METHOD) else None
     return method, build_params(args, method=method, base=base)
 
 
@@ -78,8 +106,8 @@ def run_chain(args: argparse.Namespace) -> int:
     paths = [out.resolve()] + [p.resolve() for p in extra_outputs.values()]
     if len(set(paths)) != len(paths):
         raise CliError("the output files must all be different.")
-    if args.ply_stride < 1:
-        raise CliError(f"--ply-stride must be >= 1; got {args.ply_stride}.")
+    if args.stride < 1:
+        raise CliError(f"--stride must be >= 1; got {args.stride}.")
     chain = chain_settings(args)
     align = chain.align
     if args.ply and align.depth_units is None and align.inverse_scale is None:
@@ -88,8 +116,9 @@ def run_chain(args: argparse.Namespace) -> int:
     method, params = _refine_params(args, chain)
 
     depth_raw = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
-    for path in [out] + [p for f, p in extra_outputs.items() if f == "--save-aligned"]:
-        check_depth_format(path, depth_raw.dtype)
+    check_depth_format(out, args.output_dtype or depth_raw.dtype)
+    if "--save-aligned" in extra_outputs:
+        check_depth_format(extra_outputs["--save-aligned"], depth_raw.dtype)
     rgb_raw = read_rgb(args.color)
     pair = align_pair(depth_raw, rgb_raw, chain.rig, settings=align)
     step = plan_scale(pair.depth_lr.shape, pair.rgb_hr.shape)
@@ -98,15 +127,16 @@ def run_chain(args: argparse.Namespace) -> int:
         depth_hr = refine(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
     finally:
         close()
+    stored, dtype = output_depth(args, depth_hr, depth_raw.dtype)
     cloud = None
     if args.ply:
         cloud = depth_to_points(depth_hr, pair.camera, rgb=pair.rgb_hr, depth_units=align.depth_units,
                                 inverse_scale=align.inverse_scale, distorted=pair.camera.has_distortion,
-                                stride=args.ply_stride)
+                                stride=args.stride)
 
     written: list[Path] = []
     try:
-        written.append(write_depth(out, depth_hr, dtype=depth_raw.dtype, overwrite=args.overwrite))
+        written.append(write_depth(out, stored, dtype=dtype, overwrite=args.overwrite))
         if "--save-aligned" in extra_outputs:
             written.append(write_depth(extra_outputs["--save-aligned"], pair.depth_lr, dtype=depth_raw.dtype,
                                        overwrite=args.overwrite))
@@ -125,7 +155,7 @@ def run_chain(args: argparse.Namespace) -> int:
         raise
     h, w = depth_hr.shape
     notes = list(pair.notes) + [step.describe(), f"refined with {method}"]
-    print(f"wrote {out} ({w}x{h}, {depth_raw.dtype}): " + "; ".join(notes), file=sys.stderr)
+    print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
     if cloud is not None:
         print(f"wrote {extra_outputs['--ply']} ({cloud[0].shape[0]} points)", file=sys.stderr)
     return 0

@@ -5,7 +5,8 @@ measurement; the output keeps the input's dtype; color is RGB).
 """
 
 from ._files import InputFileError, atomic_directory, atomic_write, check_output, check_output_dir
-from ._images import DEPTH_SUFFIXES, check_depth_format, depth_to_dtype, image_shape, read_depth, read_rgb, write_depth, write_rgb
+from ._images import (DEPTH_SUFFIXES, check_depth_format, depth_to_dtype, image_shape, read_depth, read_rgb,
+                      scale_to_dtype, write_depth, write_figure, write_rgb)
 from ._params import read_mapping, read_patch_layout
 from ._camera import (
     ChainSettings, read_camera, read_chain_settings, read_rig, write_camera, write_chain_settings, write_rig,
@@ -25,6 +26,8 @@ __all__ = [
     "DEPTH_SUFFIXES",
     "check_depth_format",
     "depth_to_dtype",
+    "scale_to_dtype",
+    "write_figure",
     "read_depth",
     "read_rgb",
     "write_depth",

@@ -28,6 +28,7 @@ Formats: PNG (8/16-bit), TIFF (any dtype, float32 for metric depth), NumPy
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import sys
 import tempfile
@@ -49,6 +50,8 @@ __all__ = [
     "DEPTH_SUFFIXES",
     "check_depth_format",
     "depth_to_dtype",
+    "scale_to_dtype",
+    "write_figure",
     "image_shape",
 ]
 
@@ -286,6 +289,46 @@ def depth_to_dtype(depth: np.ndarray, dtype: np.dtype | type) -> np.ndarray:
     return out
 
 
+def scale_to_dtype(depth: np.ndarray, scale: float, dtype: np.dtype | type) -> np.ndarray:
+    """``depth * scale`` (float32, NaN = invalid), refused if ``dtype`` cannot store it without clipping.
+
+    For storing a float result in an integer file with an explicit scale,
+    e.g. metres x 1000 as uint16 millimetres: a valid value must neither
+    exceed the type's maximum nor round to 0 (which means "no measurement"
+    in a file), so nothing is clipped silently.
+
+    Raises
+    ------
+    ValueError
+        ``scale`` is not a positive finite number, or a valid value would clip.
+
+    Examples
+    --------
+    >>> scale_to_dtype(np.array([0.5, np.nan, 2.25], np.float32), 1000, np.uint16).tolist()
+    [500.0, nan, 2250.0]
+    """
+    dtype = np.dtype(dtype)
+    if not (isinstance(scale, (int, float)) and math.isfinite(scale) and scale > 0):
+        raise ValueError(f"the output scale must be a positive number; got {scale!r}.")
+    scaled = np.asarray(depth, dtype=np.float64) * scale
+    valid = np.isfinite(scaled)
+    if dtype.kind in "ui" and valid.any():
+        info = np.iinfo(dtype)
+        top, low = float(scaled[valid].max()), float(scaled[valid].min())
+        if np.floor(top + 0.5) > info.max:
+            raise ValueError(
+                f"depth x {scale:g} reaches {top:.6g}, over the {dtype} maximum {info.max}: the values would "
+                f"clip; choose a smaller scale (largest that fits: {info.max / (top / scale):.6g}) or a float "
+                "output (.tif, .npy)."
+            )
+        if np.floor(low + 0.5) < max(1, info.min):
+            raise ValueError(
+                f"depth x {scale:g} goes down to {low:.6g}, which rounds to {np.floor(low + 0.5):g}, but 0 means "
+                f"no measurement in a file and {dtype} holds no negative values: the values would clip; "
+                "choose a larger scale or a float output (.tif, .npy)."
+            )
+    return scaled.astype(np.float32)
+
 
 def check_depth_format(path: str | os.PathLike, dtype: np.dtype | type) -> str:
     """The lower-case suffix of ``path`` if it is a depth format that can hold ``dtype``.
@@ -308,7 +351,8 @@ def check_depth_format(path: str | os.PathLike, dtype: np.dtype | type) -> str:
     if suffix in _INTEGER_SUFFIXES and dtype not in (np.uint8, np.uint16):
         raise InputFileError(
             f"output {p}: {suffix} holds 8- or 16-bit integers, but the depth is {dtype}; "
-            "write .tif or .npy to keep it."
+            "write .tif or .npy to keep it, or (refine, run) store it as 16-bit PNG with an explicit scale: "
+            "--output-scale 1000 --output-dtype uint16 (metres to millimetres)."
         )
     return suffix
 
@@ -361,6 +405,12 @@ def read_rgb(path: str | os.PathLike, *, max_pixels: int | None = None) -> np.nd
         return np.ascontiguousarray(check_rgb(arr, name=f"color file {p}"))
     except (TypeError, ValueError) as exc:
         raise InputFileError(str(exc)) from None
+
+
+def write_figure(path: str | os.PathLike, figure, *, overwrite: bool = False) -> Path:
+    """Save a matplotlib ``Figure`` (from :mod:`depthrefine.viz`) as PNG, atomically."""
+    p = check_output(path, overwrite=overwrite, what="output")
+    return atomic_write(p, lambda tmp: figure.savefig(tmp, format="png"), overwrite=overwrite)
 
 
 def write_rgb(path: str | os.PathLike, rgb: np.ndarray, *, overwrite: bool = False) -> Path:

@@ -23,7 +23,10 @@ from .scale import plan_scale
 from .thesis.params import RefineParams
 from .thesis.refine import refine_thesis
 
-__all__ = ["Method", "METHODS", "register_method", "get_method", "refine"]
+__all__ = ["Method", "METHODS", "DEFAULT_METHOD", "register_method", "get_method", "refine"]
+
+#: The method :func:`refine` (and ``depthrefine refine``) uses when none is named.
+DEFAULT_METHOD = "thesis"
 
 
 @dataclass(frozen=True)
@@ -110,7 +113,7 @@ def refine(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    method: str = "thesis",
+    method: str = DEFAULT_METHOD,
     params: Any = None,
     progress: Callable[[int, int], None] | None = None,
     max_pixels: int | None = None,
@@ -126,7 +129,7 @@ def refine(
         Registered high-resolution color image, RGB order (uint8, uint16, or
         float in [0, 1]).
     method : str
-        A key of :data:`METHODS`: ``"thesis"`` (default), ``"nearest"``,
+        A key of :data:`METHODS` (default :data:`DEFAULT_METHOD`): ``"thesis"``, ``"nearest"``,
         ``"bilinear"``, ``"bicubic"``, and any later registration.
     params : dataclass, optional
         The method's parameters (:class:`RefineParams` for ``"thesis"``);

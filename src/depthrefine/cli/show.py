@@ -1,0 +1,47 @@
+"""``depthrefine show DEPTH [COLOR] -o PNG``: look at any depth file, with a colorbar."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .. import viz
+from .._validate import as_depth
+from ..io import check_output, read_depth, read_rgb, write_figure
+from ._common import add_depth_options, add_overwrite, add_units_option, depth_units_label, parse_range
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "show",
+        help="draw a depth file as a picture with a colorbar (beside its color image)",
+        description=(
+            "Draw DEPTH (8/16-bit PNG, float TIFF or .npy; 0, NaN = no measurement, drawn gray) with the "
+            f"{viz.DEPTH_COLORMAP} colormap and a colorbar in its units, beside COLOR when given, and write "
+            "the picture as PNG."
+        ),
+    )
+    p.add_argument("depth", metavar="DEPTH", help="depth map (any resolution)")
+    p.add_argument("color", metavar="COLOR", nargs="?", help="color image to show beside it (optional)")
+    p.add_argument("-o", "--output", required=True, metavar="PNG", help="the picture (.png)")
+    add_units_option(p)
+    p.add_argument("--range", type=parse_range, metavar="MIN,MAX",
+                   help="the colorbar's range, in the depth's units (default: the map's own min and max); "
+                        "give the same range to compare several pictures")
+    add_overwrite(p)
+    add_depth_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    inputs = (args.depth,) + ((args.color,) if args.color else ())
+    out = check_output(args.output, overwrite=args.overwrite, suffixes=(".png",), inputs=inputs)
+    raw = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
+    rgb = read_rgb(args.color) if args.color else None
+    depth = as_depth(raw, name=f"depth file {args.depth}")
+    fig = viz.depth_figure(depth, rgb, units=depth_units_label(args.units, raw.dtype), title=Path(args.depth).name,
+                           limits=args.range)
+    write_figure(out, fig, overwrite=args.overwrite)
+    print(f"wrote {out}", file=sys.stderr)
+    return 0
