@@ -234,10 +234,10 @@ def test_run_with_the_thesis_shift_and_options(captures, tmp_path, capsys):
     aligned = tmp_path / "aligned.png"
     # the captures' rig does not fit the shift (before: exit 0 and the rectangle 3.5 depth pixels off)
     code = main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
-                 "--align", "shift", "--depth-units", "0.001", "--method", "nearest", "-o", str(out),
+                 "--method", "shift", "--depth-units", "0.001", "--refine-method", "nearest", "-o", str(out),
                  "--save-aligned", str(aligned)])
     err = capsys.readouterr().err
-    assert code == 2 and "misplace the depth" in err and "--align reproject" in err
+    assert code == 2 and "misplace the depth" in err and "--method reproject" in err
     assert not out.exists() and not aligned.exists()
     # a parallel rig whose color image shows the depth camera's view: the shift puts the depth in place
     rig = _shift_rig()
@@ -247,7 +247,7 @@ def test_run_with_the_thesis_shift_and_options(captures, tmp_path, capsys):
     color = tmp_path / "color_parallel.png"
     cv2.imwrite(str(color), np.where(front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2))
     code = main(["run", str(captures["depth"]), str(color), "--rig", str(rig_file),
-                 "--align", "shift", "--depth-units", "0.001", "--method", "nearest", "-o", str(out),
+                 "--method", "shift", "--depth-units", "0.001", "--refine-method", "nearest", "-o", str(out),
                  "--save-aligned", str(aligned)])
     err = capsys.readouterr().err
     assert code == 0, err
@@ -270,7 +270,7 @@ def test_run_errors_leave_no_output(captures, tmp_path, capsys):
     assert "inverse_scale" in err and "Traceback" not in err
     # --ply without units
     assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
-                 "--align", "shift", "--slope", "0.5", "-o", str(out), "--ply", str(cloud)]) == 2
+                 "--method", "shift", "--slope", "0.5", "-o", str(out), "--ply", str(cloud)]) == 2
     assert "--ply needs the depth's units" in capsys.readouterr().err
     # a color image of the wrong size
     small = tmp_path / "small.png"
@@ -333,7 +333,7 @@ def test_run_with_a_non_integer_ratio_applies_the_scale_step(captures, tmp_path,
     color = tmp_path / "color74.png"
     cv2.imwrite(str(color), np.where(front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2))
     out = tmp_path / "refined.png"
-    code = main(["run", str(captures["depth"]), str(color), "--rig", str(rig_file), "--align", "shift",
+    code = main(["run", str(captures["depth"]), str(color), "--rig", str(rig_file), "--method", "shift",
                  "--depth-units", "0.001", "--patches", "2x2", "-o", str(out)])
     err = capsys.readouterr().err
     assert code == 0, err

@@ -282,7 +282,7 @@ def _chain_shift(depth_raw, rig, settings, notes) -> np.ndarray:
             f"the shift alignment would misplace the depth by {error:.1f} depth pixels on this rig (the color "
             f"image does not show the depth camera's field of view: different focal lengths, principal points "
             f"or a rotation; checked at the background, {at}); use the reproject alignment (the default: "
-            f"--align reproject in run, --method reproject in align) or crop the color image to the depth "
+            f"--method reproject in run and align) or crop the color image to the depth "
             f"camera's view."
         )
     out = align_shift(depth, slope=slope, background=background, color_side=color_side, encoding=encoding)
