@@ -373,8 +373,7 @@ def figure_grid(
     if any(p.kind in ("depth", "error") for p in cells):  # the kinds that draw missing pixels gray
         swatch = Patch(facecolor=tuple(c / 255.0 for c in INVALID_COLOR), edgecolor="black", linewidth=0.5,
                        label=INVALID_LABEL)
-        fig.legend(handles=[swatch], loc="outside upper right" if where["location"] == "top" else "outside lower right",
-                   fontsize=8, frameon=False)
+        fig.legend(handles=[swatch], loc="outside lower right", fontsize=8, frameon=False)
     if title:
         fig.suptitle(title, fontsize=10)
     return fig

@@ -282,7 +282,8 @@ def best_cells(table: Table) -> frozenset[tuple[int, int]]:
 
     Smaller is better except in :data:`_HIGHER_IS_BETTER` columns; when the
     table has a ``scale`` column, the best is taken per scale. Ties are all
-    marked; a column with fewer than two numbers has no best.
+    marked; a column with fewer than two numbers, or all of them equal, has
+    no best.
 
     Examples
     --------
@@ -304,7 +305,7 @@ def best_cells(table: Table) -> frozenset[tuple[int, int]]:
                 key = cells[group_col] if group_col is not None else ""
                 groups.setdefault(key, []).append((sign * value, row))
         for values in groups.values():
-            if len(values) < 2:
+            if len(values) < 2 or len({v for v, _ in values}) == 1:  # nothing to compare, or all equal
                 continue
             top = min(v for v, _ in values)
             best.update((row, col) for v, row in values if v == top)
@@ -475,7 +476,7 @@ def scene_figure(case: BenchCase, results: Mapping[str, np.ndarray], *,
                                                                         detail=True)])
     r0, r1, c0, c1 = zoom
     return figure_grid(rows, units=units, limits=depth_limits(case.depth_gt), error_max=ERROR_MAP_MAX, zoom=zoom,
-                       panel_width=2.2, dpi=100,
+                       panel_width=2.2, dpi=140,
                        title=f"{case.protocol} · {case.scene} · ×{case.scale}: results and |error| against the "
                              f"ground truth; details: rows {r0}-{r1}, cols {c0}-{c1}")
 
