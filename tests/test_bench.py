@@ -7,6 +7,7 @@ import math
 import shutil
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pytest
 from PIL import Image
@@ -174,8 +175,30 @@ def test_bench_cli_bad_arguments_exit_2(tmp_path, capsys):
 
 def test_bench_cli_default_data_missing_is_a_clear_error(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv("DEPTHREFINE_DATA", raising=False)
+    monkeypatch.setattr("depthrefine.cli.bench.checkout_data_dir", lambda: tmp_path / "shared" / "data")
     assert main(["bench", "--protocol", "lu"]) == 2
-    assert "pass --data DIR" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "pass --data DIR" in err and "DEPTHREFINE_DATA" in err and str(tmp_path / "shared" / "data") in err
+    monkeypatch.setenv("DEPTHREFINE_DATA", str(tmp_path / "missing"))
+    assert main(["bench", "--protocol", "lu"]) == 2
+    assert "$DEPTHREFINE_DATA is " in capsys.readouterr().err
+
+
+def test_bench_cli_default_data_order(tmp_path, monkeypatch):
+    """--data, else $DEPTHREFINE_DATA, else ../shared/data beside the source checkout."""
+    from depthrefine.cli.bench import _data_dir, checkout_data_dir
+
+    import depthrefine
+
+    checkout = Path(depthrefine.__file__).resolve().parents[2]          # <checkout>/src/depthrefine/__init__.py
+    assert checkout_data_dir() == checkout.parent / "shared" / "data"   # tests run from a source checkout
+    monkeypatch.setenv("DEPTHREFINE_DATA", str(tmp_path))
+    assert _data_dir(None) == tmp_path
+    assert _data_dir(str(tmp_path / ".")) == tmp_path / "."
+    monkeypatch.delenv("DEPTHREFINE_DATA")
+    monkeypatch.setattr("depthrefine.cli.bench.checkout_data_dir", lambda: tmp_path)
+    assert _data_dir(None) == tmp_path
 
 
 def _park_scene(root: Path, name: str, *, gt_dtype=np.uint8, noisy=(8,)) -> None:
@@ -234,3 +257,65 @@ def test_a_lu_folder_with_no_usable_pair_names_the_expected_files(tmp_path):
         load_cases(tmp_path, "lu", (4,))  # the only pair lacks its depth file
     with pytest.raises(InputFileError, match=r"middlebury_lu30/RGB/<name>_output_color.png"):
         load_cases(tmp_path, "middlebury30", (4,))
+
+
+def _triplets(root: Path, rng) -> Path:
+    """Three triplets (x4, two with holes, one in uint16 with 65535 as 'no measurement') paired by stem."""
+    for sub in ("color", "input", "gt"):
+        (root / sub).mkdir(parents=True)
+    for i, stem in enumerate(("a", "b", "c")):
+        gt = np.full((40, 48), 1500 + 100 * i, np.uint16)
+        gt[10:30, 12 + 4 * i:36] = 2600
+        gt[0, :5] = 65535                                    # no measurement, by --invalid 65535
+        rgb = np.where(gt[..., None] > 2000, np.uint8(210), np.uint8(50)) + rng.integers(0, 30, (40, 48, 3))
+        low = gt[1::4, 1::4].astype(np.int32) + rng.integers(-40, 40, (10, 12))
+        low = np.clip(low, 1, 65534).astype(np.uint16)
+        low[2, 3] = 65535
+        Image.fromarray(rgb.astype(np.uint8)).save(root / "color" / f"{stem}.png")
+        cv2.imwrite(str(root / "input" / f"{stem}.png"), low)
+        cv2.imwrite(str(root / "gt" / f"{stem}.png"), gt)
+    (root / "gt" / "extra.png").write_bytes((root / "gt" / "a.png").read_bytes())   # no color, no input: skipped
+    return root
+
+
+def test_bench_pairs_gives_the_rmse_of_evaluate_on_the_same_arrays(tmp_path, rng, capsys):
+    import depthrefine
+    from depthrefine.evaluate import rmse
+    from depthrefine.io import read_depth, read_rgb
+
+    folder = _triplets(tmp_path / "mine", rng)
+    out = tmp_path / "report"
+    assert main(["bench", "--pairs", str(folder), "--units", "mm", "--invalid", "65535", "--crop", "2",
+                 "--methods", "bilinear,guided", "--report", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "skipped extra" in captured.err
+    with open(out / "scores.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {(r["protocol"], r["scene"], r["scale"], r["method"]) for r in rows} == {
+        ("pairs", s, "4", m) for s in "abc" for m in ("bilinear", "guided")}
+    for r in rows:
+        low = read_depth(folder / "input" / f"{r['scene']}.png")
+        low = np.where(low == 65535, 0, low).astype(np.uint16)
+        gt = read_depth(folder / "gt" / f"{r['scene']}.png").astype(np.float32)
+        gt[(gt == 65535) | (gt == 0)] = np.nan
+        valid = np.zeros(gt.shape, bool)
+        valid[2:-2, 2:-2] = True
+        pred = depthrefine.refine(low, read_rgb(folder / "color" / f"{r['scene']}.png"), method=r["method"])
+        assert float(r["rmse"]) == pytest.approx(rmse(pred, gt, valid=valid), rel=1e-5)
+    page = (out / "index.html").read_text()
+    assert "pairs: mean RMSE" in page and "mm" in page and page.count('<figure class="scene">') == 3
+    assert "pairs" in captured.out and "×4" in captured.out
+
+
+def test_bench_pairs_bad_uses_are_clear_errors(tmp_path, rng, capsys):
+    folder = _triplets(tmp_path / "mine", rng)
+    assert main(["bench", "--pairs", str(folder), "--protocol", "lu"]) == 2
+    assert "--pairs DIR takes neither --protocol nor --scales" in capsys.readouterr().err
+    assert main(["bench", "--pairs", str(folder), "--data", str(tmp_path)]) == 2
+    assert "not allowed with argument" in capsys.readouterr().err
+    assert main(["bench", "--data", str(tmp_path), "--units", "mm"]) == 2
+    assert "--units is for --pairs" in capsys.readouterr().err
+    shutil.rmtree(folder / "input")
+    assert main(["bench", "--pairs", str(folder)]) == 2
+    err = capsys.readouterr().err
+    assert "input/" in err and "paired by stem" in err

@@ -109,8 +109,10 @@ def test_best_value_of_each_column_is_marked():
     table = report.Table("t", ("method", "scale", "RMSE", "coverage (%)", "s / image"),
                          (("a", "×4", "2.00", "90.0", "0.5"), ("b", "×4", "1.00 (n=1)", "99.0", "0.5"),
                           ("a", "×8", "3.00", "–", "1.0"), ("b", "×8", "4.00", "95.0", "2.0")))
-    # Per scale: RMSE lowest, coverage highest, ties all marked; a lone number is no "best".
-    assert report.best_cells(table) == {(1, 2), (1, 3), (0, 4), (1, 4), (2, 2), (2, 4)}
+    # Per scale: RMSE lowest, coverage highest; a lone number, or all equal (0.5, 0.5), is no "best".
+    assert report.best_cells(table) == {(1, 2), (1, 3), (2, 2), (2, 4)}
+    tie = report.Table("t", ("method", "×4"), (("a", "1.00"), ("b", "1.00"), ("c", "2.00")))
+    assert report.best_cells(tie) == {(0, 1), (1, 1)}
     rows = [_row("park", "art", 4, "bilinear", 2.0), _row("park", "art", 4, "thesis", 1.0)]
     html_text = report.html_page(rows, figures=[("cap", "f.png")], plot="p.png")
     assert '<td class="best">1.00</td>' in html_text and "<td>2.00</td>" in html_text

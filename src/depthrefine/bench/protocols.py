@@ -30,6 +30,7 @@ them out, saying why (:func:`left_out_reason`).
 
 from __future__ import annotations
 
+import functools
 import os
 import zlib
 from dataclasses import dataclass, field
@@ -58,6 +59,8 @@ __all__ = [
     "lu_case",
     "tof_case",
     "tof_seed",
+    "pairs_protocol",
+    "PAIRS",
 ]
 
 #: Border crop of the middlebury30 / lu protocols, pixels.
@@ -103,6 +106,8 @@ class Protocol:
         ``{scale: {"scenes": (...), "rows": {name: {"source", "values": {scene: rmse}}}}}``.
     published_means : tuple of mapping
         ``({"name", "source", "images", "values": {scale: rmse}}, ...)``.
+    reader_options : mapping
+        Keyword arguments for the reader (e.g. ``invalid`` for ``triplets``).
     """
 
     name: str
@@ -116,6 +121,7 @@ class Protocol:
     left_out_why: Mapping[str, str] = field(default_factory=dict)
     published_scenes: Mapping[int, Mapping[str, Any]] = field(default_factory=dict)
     published_means: tuple[Mapping[str, Any], ...] = ()
+    reader_options: Mapping[str, Any] = field(default_factory=dict)
 
 
 #: The registered protocols, in report order.
@@ -294,6 +300,7 @@ def load_cases(data_dir: str | os.PathLike, protocol: str, scales: tuple[int, ..
     protocol : str
         A key of :data:`PROTOCOLS`.
     scales : tuple of int
+        Empty: each scene at the scales of its given inputs (``--pairs``).
     notes : list of str, optional
         Each scene or scale skipped (a missing or unusable file) appends
         one line here, naming the protocol, the scene, the scale and why.
@@ -314,20 +321,20 @@ def load_cases(data_dir: str | os.PathLike, protocol: str, scales: tuple[int, ..
     entry = get_protocol(protocol)
     mine: list[str] = []
     folder, scenes = read_dataset(data_dir, entry.folder, entry.reader, protocol=entry.name, layout=entry.layout,
-                                  scales=scales, notes=mine)
+                                  scales=scales, notes=mine, options=dict(entry.reader_options))
     mine[:] = [f"{protocol}: {n}" for n in mine]
     cases: list[BenchCase] = []
     for scene in scenes:
-        for s in scales:
+        for s in scales or sorted(scene.inputs):
             try:
                 cases.append(entry.build_case(entry, scene, s))
             except (InputFileError, ValueError, OSError) as exc:
                 mine.append(f"{protocol}: skipped {scene.name} x{s}: {exc}")
     if not cases:
         first = f" First problem: {mine[0]}" if mine else ""
+        at = f" at x{','.join(map(str, scales))}" if scales else ""
         raise InputFileError(
-            f"{folder}: no usable case for the {protocol!r} protocol at x{','.join(map(str, scales))}; "
-            f"expected {entry.layout}.{first}"
+            f"{folder}: no usable case for the {protocol!r} protocol{at}; expected {entry.layout}.{first}"
         )
     if notes is not None:
         notes.extend(mine)
@@ -434,3 +441,58 @@ register_protocol(Protocol(
     tuning_scenes=("dolls", "laundry"),
     left_out_why={"dolls": "Park's Dolls, a tuning scene", "laundry": "Park's Laundry, a tuning scene"},
 ))
+
+
+# ---------------------------------------------------------------- your own data: bench --pairs DIR
+
+#: The name of the protocol :func:`pairs_protocol` builds.
+PAIRS = "pairs"
+
+
+def _pairs_build(protocol: Protocol, scene: Scene, scale: int, *, border: int = 0) -> BenchCase:
+    depth_lr = scene.inputs[scale]
+    gt = gt_float(scene.depth_gt)
+    if 2 * border >= min(gt.shape):
+        raise ValueError(f"--crop {border} leaves nothing of the {gt.shape[1]}x{gt.shape[0]} ground truth to score.")
+    return BenchCase(protocol.name, scene.name, scale, depth_lr, scene.rgb_hr, gt, border=border, split="test")
+
+
+def pairs_protocol(folder: str | os.PathLike, *, units: str | None = None, invalid: float = 0.0,
+                   crop: int = 0) -> Protocol:
+    """A protocol for a folder of your own triplets: ``folder/color``, ``folder/input``, ``folder/gt``.
+
+    Files pair by stem (:func:`depthrefine.io.read_triplets`); each input
+    is refined to its color image's grid and scored against its ground
+    truth over the valid pixels, leaving ``crop`` pixels out on each side.
+
+    Parameters
+    ----------
+    folder : path-like
+        The folder holding ``color/``, ``input/`` and ``gt/``.
+    units : str, optional
+        A label for the tables and colorbars (default: "depth units as stored").
+    invalid : float
+        The stored value meaning "no measurement" (besides 0 and NaN).
+    crop : int
+        Border pixels left out of the scores, on each side.
+
+    Returns
+    -------
+    Protocol
+        Named :data:`PAIRS`; register it (``register_protocol(..., replace=True)``) to run it.
+    """
+    from pathlib import Path
+
+    if crop < 0:
+        raise ValueError(f"--crop must be >= 0 pixels; got {crop}.")
+    folder = Path(folder)
+    units = units or "depth units as stored"
+    return Protocol(
+        name=PAIRS,
+        title=f"your triplets in {folder.name}/ (color, input, gt paired by stem): RMSE over the valid "
+              f"ground-truth pixels{f' inside a {crop}-px border' if crop else ''}, {units}",
+        folder=folder.name,
+        layout=f"{folder.name}/color/<stem>.png, {folder.name}/input/<stem>.png and {folder.name}/gt/<stem>.png",
+        reader="triplets", build_case=functools.partial(_pairs_build, border=int(crop)), units=units,
+        reader_options={"invalid": float(invalid)},
+    )

@@ -44,7 +44,6 @@ __all__ = [
     "choose_zoom",
     "error_map",
     "best_cells",
-    "PROTOCOL_UNITS",
     "scene_figure",
     "rmse_scale_figure",
     "html_page",
@@ -61,13 +60,6 @@ _METRIC_TITLES = {
 
 #: Error maps are drawn from 0 to this many depth units (larger errors saturate).
 ERROR_MAP_MAX = 10.0
-#: The depth's units per protocol, for colorbars.
-PROTOCOL_UNITS = {
-    "park": "disparity levels",
-    "tof": "disparity levels",
-    "middlebury30": "0..255 depth units",
-    "lu": "0..255 depth units",
-}
 
 
 @dataclass(frozen=True)
@@ -456,7 +448,7 @@ def scene_figure(case: BenchCase, results: Mapping[str, np.ndarray], *,
     zoom : (row0, row1, col0, col1), optional
         Default: :func:`choose_zoom` on the ground truth.
     units : str, optional
-        Default: the protocol's (:data:`PROTOCOL_UNITS`).
+        Default: the protocol's (:attr:`~depthrefine.bench.protocols.Protocol.units`).
 
     Returns
     -------
@@ -465,7 +457,7 @@ def scene_figure(case: BenchCase, results: Mapping[str, np.ndarray], *,
     from ..viz import Panel, depth_limits, figure_grid
 
     zoom = choose_zoom(case.depth_gt) if zoom is None else zoom
-    units = units or PROTOCOL_UNITS.get(case.protocol, "depth units")
+    units = units or (PROTOCOLS[case.protocol].units if case.protocol in PROTOCOLS else "depth units")
     rows = [[Panel("ground truth", case.depth_gt), Panel("detail", case.depth_gt, detail=True),
              Panel("color", case.rgb_hr, "color"), Panel("detail", case.rgb_hr, "color", detail=True)]]
     for method, depth in results.items():

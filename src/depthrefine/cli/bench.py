@@ -4,20 +4,28 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
 from .. import __version__
-from ..bench.protocols import PROTOCOLS, TUNING_SCENES, left_out_reason, load_cases, tuned_on_scenes
+from ..bench.protocols import (PAIRS, PROTOCOLS, TUNING_SCENES, left_out_reason, load_cases, pairs_protocol,
+                               register_protocol, tuned_on_scenes)
 from ..bench.runner import DEFAULT_SCALES, parse_scales, run_benchmark
 from ..io import InputFileError, atomic_directory, check_output_dir
 from ..methods.registry import METHODS, get_method
 from ..methods.peers import fast_bilateral_solver_status
 from ..bench import report
-from ._common import params_dict
+from ._common import add_units_option, params_dict
 
-#: Where ``--data`` points when it is not given (relative to the current folder).
-DEFAULT_DATA = Path("..") / "shared" / "data"
+#: The environment variable naming the data folder when ``--data`` is not given.
+DATA_ENV = "DEPTHREFINE_DATA"
+
+
+def checkout_data_dir() -> Path | None:
+    """``../shared/data`` beside the source checkout this package runs from (None for an installed wheel)."""
+    root = Path(__file__).resolve().parents[3]  # <checkout>/src/depthrefine/cli/bench.py
+    return root.parent / "shared" / "data" if (root / "pyproject.toml").is_file() else None
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -30,31 +38,53 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
             "scores.csv, summary.md, figures and index.html."
         ),
     )
-    p.add_argument("--data", metavar="DIR",
-                   help=f"folder holding the dataset folders (default: {DEFAULT_DATA} if present)")
-    p.add_argument("--protocol", default="all", choices=[*PROTOCOLS, "all"],
-                   help="; ".join(f"{name}: {entry.title}" for name, entry in PROTOCOLS.items())
-                        + "; or all (default)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--data", metavar="DIR",
+                       help=f"folder holding the dataset folders, laid out as shared/data (default: ${DATA_ENV}, "
+                            "else ../shared/data beside the source checkout)")
+    where.add_argument("--pairs", metavar="DIR",
+                       help="score your own data instead: DIR/color/, DIR/input/ (low-resolution depth) and DIR/gt/ "
+                            "(ground truth on the color grid), files paired by stem (a.png, a.png, a.png)")
+    published = {name: entry for name, entry in PROTOCOLS.items() if name != PAIRS}
+    p.add_argument("--protocol", default=None, choices=[*published, "all"],
+                   help="; ".join(f"{name}: {entry.title}" for name, entry in published.items())
+                        + "; or all (default; not with --pairs)")
     p.add_argument("--methods", metavar="A,B,C",
                    help=f"comma-separated methods (default: all registered: {','.join(METHODS)})")
-    p.add_argument("--scales", default=",".join(map(str, DEFAULT_SCALES)), metavar="4,8,16",
-                   help="comma-separated upsampling factors (default: 4,8,16)")
+    p.add_argument("--scales", default=None, metavar="4,8,16",
+                   help="comma-separated upsampling factors (default: 4,8,16; with --pairs the files give them)")
+    add_units_option(p, help="--pairs: the depth's units, a label for the tables and colorbars (e.g. mm); "
+                             "no value changes")
+    p.add_argument("--invalid", type=float, default=0.0, metavar="V",
+                   help="--pairs: the stored value meaning no measurement, in input and gt (default 0; NaN "
+                        "always is)")
+    p.add_argument("--crop", type=int, default=0, metavar="N",
+                   help="--pairs: leave N pixels on each side out of the scores (default 0)")
     p.add_argument("--report", metavar="DIR", help="write the report folder here")
     p.add_argument("--overwrite", action="store_true", help="write into an existing non-empty report folder")
     p.set_defaults(func=run)
 
 
 def _data_dir(arg: str | None) -> Path:
+    """``--data``, else ``$DEPTHREFINE_DATA``, else ``../shared/data`` beside the source checkout."""
     if arg is not None:
         data = Path(arg)
         if not data.is_dir():
             raise InputFileError(f"--data {data} does not exist or is not a folder.")
         return data
-    if DEFAULT_DATA.is_dir():
-        return DEFAULT_DATA
+    env = os.environ.get(DATA_ENV)
+    if env:
+        if not Path(env).is_dir():
+            raise InputFileError(f"${DATA_ENV} is {env}, which does not exist or is not a folder; "
+                                 "fix it or pass --data DIR.")
+        return Path(env)
+    beside = checkout_data_dir()
+    if beside is not None and beside.is_dir():
+        return beside
+    looked = f"{beside}" if beside is not None else "../shared/data beside a source checkout (this is an installed copy)"
     raise InputFileError(
-        f"no --data given and {DEFAULT_DATA} (relative to the current folder {Path.cwd()}) does not exist; "
-        "pass --data DIR, a folder laid out as shared/data."
+        f"no --data given, ${DATA_ENV} is not set and {looked} does not exist; pass --data DIR (a folder "
+        f"laid out as shared/data), set {DATA_ENV}=DIR, or score your own files with --pairs DIR."
     )
 
 
@@ -71,38 +101,18 @@ def _methods(arg: str | None) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     methods = _methods(args.methods)
-    scales = parse_scales(args.scales)
-    data = _data_dir(args.data)
     if args.report:
         check_output_dir(args.report, overwrite=args.overwrite, what="report folder")
-    protocols = list(PROTOCOLS) if args.protocol == "all" else [args.protocol]
-    if args.protocol == "all":
-        folders = {p: PROTOCOLS[p].folder for p in protocols}
-        present = [p for p in protocols if (data / folders[p]).is_dir() or data.name == folders[p]]
-        if not present:
-            raise InputFileError(f"{data} holds none of the dataset folders "
-                                 f"{sorted(set(folders.values()))}; pass --data DIR laid out as shared/data.")
-        for protocol in protocols:
-            if protocol not in present:
-                print(f"depthrefine bench: note: {data} has no {folders[protocol]}/; "
-                      f"skipping the {protocol} protocol.", file=sys.stderr)
-        protocols = present
-    cases = []
-    skipped: list[str] = []
-    for protocol in protocols:
-        if len(protocols) == 1:
-            cases += load_cases(data, protocol, scales, notes=skipped)
-            continue
-        try:
-            cases += load_cases(data, protocol, scales, notes=skipped)
-        except InputFileError as exc:  # --protocol all: one unusable dataset does not stop the others
-            skipped.append(f"{protocol}: skipped the whole protocol: {exc}")
-    for note in skipped:
-        print(f"depthrefine bench: note: {note}", file=sys.stderr)
-    if not cases:
-        raise InputFileError(f"{data}: no usable case in any protocol (see the notes above); "
-                             "lay it out as shared/data (e.g. middlebury2005_park/<scene>/color.png, gt_disp.png).")
-
+    if args.pairs is not None:
+        cases, skipped = _pair_cases(args)
+    else:
+        for option in ("units", "crop"):
+            if getattr(args, option) not in (None, 0):
+                raise ValueError(f"--{option} is for --pairs DIR (the published protocols fix their own).")
+        if args.invalid != 0:
+            raise ValueError("--invalid is for --pairs DIR (the published protocols fix their own).")
+        cases, skipped = _protocol_cases(args)
+    scales = tuple(sorted({case.scale for case in cases}))
     if args.report:
         with atomic_directory(args.report, overwrite=args.overwrite) as tmp:
             rows = _run(cases, methods, scales, tmp, skipped)
@@ -112,6 +122,61 @@ def run(args: argparse.Namespace) -> int:
     if args.report:
         print(f"wrote {Path(args.report) / 'index.html'} (and scores.csv, summary.md, figures)", file=sys.stderr)
     return 0
+
+
+def _pair_cases(args: argparse.Namespace):
+    """The cases of ``--pairs DIR``: one per triplet, at the scale its files give."""
+    if args.protocol is not None or args.scales is not None:
+        raise ValueError("--pairs DIR takes neither --protocol nor --scales: the triplets are the protocol and "
+                         "their files give the scales.")
+    folder = Path(args.pairs)
+    if not folder.is_dir():
+        raise InputFileError(f"--pairs {folder} does not exist or is not a folder.")
+    register_protocol(pairs_protocol(folder, units=args.units, invalid=args.invalid, crop=args.crop), replace=True)
+    skipped: list[str] = []
+    cases = load_cases(folder, PAIRS, (), notes=skipped)
+    for note in skipped:
+        print(f"depthrefine bench: note: {note}", file=sys.stderr)
+    return cases, skipped
+
+
+def _protocol_cases(args: argparse.Namespace):
+    """The cases of the published protocols under ``--data`` (or its default)."""
+    scales = parse_scales(args.scales if args.scales is not None else ",".join(map(str, DEFAULT_SCALES)))
+    data = _data_dir(args.data)
+    protocol = args.protocol or "all"
+    protocols = [p for p in PROTOCOLS if p != PAIRS] if protocol == "all" else [protocol]
+    if protocol == "all":
+        folders = {p: PROTOCOLS[p].folder for p in protocols}
+        present = [p for p in protocols if (data / folders[p]).is_dir() or data.name == folders[p]]
+        if not present:
+            raise InputFileError(f"{data} holds none of the dataset folders "
+                                 f"{sorted(set(folders.values()))}; pass --data DIR laid out as shared/data.")
+        for name in protocols:
+            if name not in present:
+                print(f"depthrefine bench: note: {data} has no {folders[name]}/; "
+                      f"skipping the {name} protocol.", file=sys.stderr)
+        protocols = present
+    cases = []
+    skipped: list[str] = []
+    for name in protocols:
+        if len(protocols) == 1:
+            cases += load_cases(data, name, scales, notes=skipped)
+            continue
+        try:
+            cases += load_cases(data, name, scales, notes=skipped)
+        except InputFileError as exc:  # --protocol all: one unusable dataset does not stop the others
+            skipped.append(f"{name}: skipped the whole protocol: {exc}")
+    for note in skipped:
+        print(f"depthrefine bench: note: {note}", file=sys.stderr)
+    if not cases:
+        raise InputFileError(f"{data}: no usable case in any protocol (see the notes above); "
+                             "lay it out as shared/data (e.g. middlebury2005_park/<scene>/color.png, gt_disp.png).")
+    return cases, skipped
+
+
+#: With --pairs, a figure for at most this many triplets.
+MAX_PAIR_FIGURES = 12
 
 
 def _run(cases, methods, scales, folder: Path | None, skipped=()):
@@ -127,7 +192,10 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
         for case in cases:
             bar.set_postfix_str(f"{case.protocol} {case.scene} x{case.scale}")
             offset = bar.n
-            want = folder is not None and case.scale == figure_scale
+            if case.protocol == PAIRS:
+                want = folder is not None and len(figures) < MAX_PAIR_FIGURES
+            else:
+                want = folder is not None and case.scale == figure_scale
             result = run_benchmark([case], methods, keep=(lambda c: want),
                                    progress=lambda done, _total: bar.update(offset + done - bar.n))
             rows += result.rows
@@ -149,18 +217,27 @@ def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
     params_used = {m: params_dict(get_method(m).default_params()) for m in methods}
     tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES if tuned_on_scenes(p))
     left_out = "; ".join(f"{p} {s} ({left_out_reason(p, s)})" for p, scenes in TUNING_SCENES.items() for s in scenes)
+    present = {r.protocol for r in rows}
     notes = [
         f"The OpenCV peers (jbf, guided, fgs, wmf) use parameters tuned with benchmarks/tune_peers.py on "
         f"{tuned}. Every mean leaves out these scenes: {left_out}. The thesis method runs with its thesis "
         "defaults.",
-        "The tuning set was revised after the lu results had been seen (noise-free middlebury30 scenes were "
-        "added when the Park-only tuning oversmoothed lu at x16), so lu is not a clean hold-out.",
-        "The tof protocol's input is simulated with our own sensor model (footprint integration, noise growing "
-        "with distance, dropouts on dark surfaces, 8-bit quantisation, fixed seed; see docs/bench.md): "
-        "it is not a published protocol.",
-        "bicubic is OpenCV INTER_CUBIC, not the PIL bicubic of the READMEs' sanity rows (see docs/bench.md).",
-        "Times are wall-clock seconds per image on this machine (shared, so noisy): compare ratios within a run.",
     ]
+    if "lu" in present:
+        notes.append("The tuning set was revised after the lu results had been seen (noise-free middlebury30 "
+                     "scenes were added when the Park-only tuning oversmoothed lu at x16), so lu is not a clean "
+                     "hold-out.")
+    if "tof" in present:
+        notes.append("The tof protocol's input is simulated with our own sensor model (footprint integration, "
+                     "noise growing with distance, dropouts on dark surfaces, 8-bit quantisation, fixed seed; see "
+                     "docs/bench.md): it is not a published protocol.")
+    if "bicubic" in methods:
+        notes.append("bicubic is OpenCV INTER_CUBIC, not the PIL bicubic of the READMEs' sanity rows (see "
+                     "docs/bench.md).")
+    if PAIRS in present:
+        notes.append(f"{PAIRS}: {PROTOCOLS[PAIRS].title}; the scale of each triplet is the ratio of its grids.")
+    notes.append("Times are wall-clock seconds per image on this machine (shared, so noisy): compare ratios "
+                 "within a run.")
     reason = fast_bilateral_solver_status()
     if reason:
         notes.append(f"The fast bilateral solver is not benchmarked: {reason}")

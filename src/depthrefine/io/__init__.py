@@ -13,8 +13,8 @@ from ._camera import (
 )
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
-from ._datasets import (DATASET_READERS, DatasetScene, dataset_folder, read_dataset, read_rgbd_pairs,
-                        read_scene_folders)
+from ._datasets import (DATASET_READERS, TRIPLET_FOLDERS, DatasetScene, dataset_folder, read_dataset,
+                        read_rgbd_pairs, read_scene_folders, read_triplets)
 
 __all__ = [
     "InputFileError",
@@ -53,4 +53,6 @@ __all__ = [
     "read_dataset",
     "read_scene_folders",
     "read_rgbd_pairs",
+    "read_triplets",
+    "TRIPLET_FOLDERS",
 ]

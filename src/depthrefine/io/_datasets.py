@@ -28,7 +28,7 @@ from ._files import InputFileError
 from ._images import read_depth, read_rgb
 
 __all__ = ["DatasetScene", "DATASET_READERS", "dataset_folder", "read_dataset", "read_scene_folders",
-           "read_rgbd_pairs"]
+           "read_rgbd_pairs", "read_triplets", "TRIPLET_FOLDERS"]
 
 _COLOR_RE = re.compile(r"^(?P<name>.+?)_(?:output|ouput)_color\.png$", re.IGNORECASE)
 
@@ -172,19 +172,97 @@ def read_rgbd_pairs(folder: str | os.PathLike, *, scales: tuple[int, ...] = (),
     return pairs
 
 
+#: The sub-folders of a folder of triplets (``bench --pairs DIR``): color, low-resolution input, ground truth.
+TRIPLET_FOLDERS = ("color", "input", "gt")
+_COLOR_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
+
+
+def _by_stem(folder: Path, suffixes: tuple[str, ...], notes: list[str] | None) -> dict[str, Path]:
+    """``{stem: file}`` of the files in ``folder`` with one of ``suffixes`` (a stem given twice is noted, skipped)."""
+    files: dict[str, list[Path]] = {}
+    for f in sorted(folder.iterdir()):
+        if f.is_file() and f.suffix.lower() in suffixes and not f.name.startswith("."):
+            files.setdefault(f.stem, []).append(f)
+    for stem, found in files.items():
+        if len(found) > 1:
+            _note(notes, f"skipped {stem}: {folder} holds {', '.join(p.name for p in found)}; keep one file per stem.")
+    return {stem: found[0] for stem, found in files.items() if len(found) == 1}
+
+
+def _as_invalid(depth: np.ndarray, invalid: float) -> np.ndarray:
+    """``depth`` with the value ``invalid`` replaced by 0 (the library's "no measurement" in a stored map)."""
+    if invalid == 0:
+        return depth
+    return np.where(depth == invalid, depth.dtype.type(0), depth)
+
+
+def read_triplets(folder: str | os.PathLike, *, scales: tuple[int, ...] = (), invalid: float = 0.0,
+                  notes: list[str] | None = None) -> list[DatasetScene]:
+    """The triplets of ``folder/color/``, ``folder/input/`` and ``folder/gt/`` that share a file stem.
+
+    ``input/<stem>.*`` is the low-resolution depth, ``gt/<stem>.*`` the ground
+    truth on the grid of ``color/<stem>.*`` (depth: PNG 8/16-bit, TIFF,
+    ``.npy``; color: PNG, JPEG, BMP, TIFF). Pixels equal to ``invalid`` (and
+    0, NaN) mean "no measurement" in both depth maps. Each scene's ``inputs``
+    holds its input under its scale factor, the rounded ratio of the grids
+    (``scales`` is not used: the files say it). Triplets are sorted by stem;
+    a stem missing from a folder, or an unreadable triplet, is skipped with
+    a note.
+
+    Raises
+    ------
+    InputFileError
+        A sub-folder is missing, or no usable triplet at all.
+    """
+    from ._images import DEPTH_SUFFIXES
+
+    folder = Path(folder)
+    layout = f"{folder}/color/<stem>.png, {folder}/input/<stem>.png and {folder}/gt/<stem>.png"
+    missing = [name for name in TRIPLET_FOLDERS if not (folder / name).is_dir()]
+    if missing:
+        raise InputFileError(f"{folder} has no {', '.join(m + '/' for m in missing)} folder; "
+                             f"--pairs expects {layout} (files paired by stem).")
+    color = _by_stem(folder / "color", _COLOR_SUFFIXES, notes)
+    inputs = _by_stem(folder / "input", DEPTH_SUFFIXES, notes)
+    truth = _by_stem(folder / "gt", DEPTH_SUFFIXES, notes)
+    scenes = []
+    for stem in sorted(set(color) | set(inputs) | set(truth)):
+        absent = [name for name, files in zip(TRIPLET_FOLDERS, (color, inputs, truth)) if stem not in files]
+        if absent:
+            _note(notes, f"skipped {stem}: no file of that stem in {', '.join(a + '/' for a in absent)}.")
+            continue
+        try:
+            rgb, gt = _read_pair(color[stem], truth[stem])
+            gt = _as_invalid(gt, invalid)
+            depth_lr = _as_invalid(read_depth(inputs[stem]), invalid)
+        except (InputFileError, ValueError, OSError) as exc:
+            _note(notes, f"skipped {stem}: {exc}")
+            continue
+        scale = max(1, round(gt.shape[0] / depth_lr.shape[0]))
+        scenes.append(DatasetScene(stem, rgb, gt, {scale: depth_lr}, color[stem]))
+    if not scenes:
+        raise InputFileError(f"{folder} holds no usable triplet; expected {layout} (files paired by stem).")
+    return scenes
+
+
 #: The readers a protocol can name (``Protocol.reader``).
 DATASET_READERS: dict[str, Callable[..., list[DatasetScene]]] = {
     "scene_folders": read_scene_folders,
     "rgbd_pairs": read_rgbd_pairs,
+    "triplets": read_triplets,
 }
 
 
 def read_dataset(data_dir: str | os.PathLike, name: str, reader: str, *, protocol: str = "", layout: str = "",
-                 scales: tuple[int, ...] = (), notes: list[str] | None = None) -> tuple[Path, list[DatasetScene]]:
-    """The dataset folder ``name`` under ``data_dir`` and its scenes, read by ``DATASET_READERS[reader]``."""
+                 scales: tuple[int, ...] = (), notes: list[str] | None = None,
+                 options: dict | None = None) -> tuple[Path, list[DatasetScene]]:
+    """The dataset folder ``name`` under ``data_dir`` and its scenes, read by ``DATASET_READERS[reader]``.
+
+    ``options`` are passed on to the reader (e.g. ``invalid`` for ``triplets``).
+    """
     folder = dataset_folder(data_dir, name, protocol=protocol, layout=layout)
     try:
         read = DATASET_READERS[reader]
     except KeyError:
         raise ValueError(f"unknown dataset reader {reader!r}; choose one of {sorted(DATASET_READERS)}.") from None
-    return folder, read(folder, scales=scales, notes=notes)
+    return folder, read(folder, scales=scales, notes=notes, **(options or {}))
