@@ -16,7 +16,7 @@ Subpackages, one per domain (the README's "Architecture" section draws the flow)
 - ``io``        every file format we read and write (the only module that touches files,
                 with ``cli``)
 - ``cli``       the ``depthrefine`` command, one module per subcommand
-- ``viz``       pictures: colorized depth, overlays, comparison figures
+- ``viz``       pictures: depth figures with a colorbar (demo, show, report), colorized depth, labels
 - ``evaluate``  the public name of the metrics (``bench.metrics``)
 """
 
