@@ -227,6 +227,13 @@ def test_run_on_raw_captures_matches_the_color_view(captures, tmp_path, capsys):
     again = tmp_path / "again.png"
     assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(used), "-o", str(again)]) == 0
     assert again.read_bytes() == out.read_bytes()
+    # --output-scale / --output-dtype: the same result stored as float metres
+    metres = tmp_path / "refined_m.tif"
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(used), "-o", str(metres),
+                 "--output-scale", "0.001", "--output-dtype", "float32"]) == 0
+    stored = read_depth(metres)
+    assert stored.dtype == np.float32
+    np.testing.assert_allclose(stored[refined > 0] * 1000, refined[refined > 0], atol=0.5)
 
 
 def test_run_with_the_thesis_shift_and_options(captures, tmp_path, capsys):
