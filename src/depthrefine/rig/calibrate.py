@@ -1,4 +1,4 @@
-"""Checkerboard calibration of the depth camera and of a depth + color rig (spec step 1).
+"""Board calibration of the depth camera and of a depth + color rig (spec step 1).
 
 The thesis (3.2.1) calibrates the ToF camera's lens distortion from
 checkerboard images of its intensity channel with the Matlab Camera
@@ -12,23 +12,32 @@ Everything here is pure: board views in, :class:`~depthrefine.rig.camera.CameraM
 :class:`~depthrefine.rig.camera.StereoRig` out; the conventions (``K``, ``dist``, ``image_size``,
 ``board`` and the rig's direction) are those of :mod:`depthrefine.rig.camera`. Files are read
 and written by :mod:`depthrefine.io`.
+
+``board`` is a :class:`~depthrefine.rig.boards.Board` (checkerboard or ChArUco), or for a
+checkerboard ``(cols, rows)`` inner corners with ``square_size`` in metres. The lens model is
+OpenCV's ``(k1, k2, p1, p2, k3)`` with ``k3`` held at 0 unless ``estimate_k3``; ``rational=True``
+fits the rational model ``(k1, k2, p1, p2, k3, k4, k5, k6)`` of wide-angle lenses (Azure Kinect).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any, Sequence
 
 import cv2
 import numpy as np
 
 from .._validate import is_int
-from .boards import _check_board, board_points, find_board_corners
+from .boards import MIN_VIEW_CORNERS, Board, BoardView, detect_board, usable
 from .camera import CameraModel, StereoRig
 
 __all__ = [
     "MIN_VIEWS",
+    "as_board",
+    "calibrate_from_views",
     "calibrate_from_corners",
     "calibrate_camera",
+    "calibrate_stereo_from_views",
     "calibrate_stereo_from_corners",
     "calibrate_stereo",
 ]
@@ -40,6 +49,84 @@ MIN_VIEWS = 3
 
 
 
+def as_board(board: Board | tuple[int, int], square_size: float | None = None) -> Board:
+    """A :class:`Board`; ``(cols, rows)`` inner corners with ``square_size`` make a checkerboard."""
+    if isinstance(board, Board):
+        if square_size is not None and not math.isclose(square_size, board.square_size):
+            raise ValueError(f"square_size {square_size} differs from the board's {board.square_size}; give one.")
+        return board
+    if square_size is None:
+        raise TypeError("a checkerboard given as (cols, rows) needs square_size (metres).")
+    return Board.checkerboard(board, square_size)
+
+
+def _flags(estimate_k3: bool, rational: bool) -> tuple[int, int]:
+    """calibrateCamera flags and the number of distortion coefficients kept."""
+    if rational:
+        return cv2.CALIB_RATIONAL_MODEL, 8
+    return (0 if estimate_k3 else cv2.CALIB_FIX_K3), 5
+
+
+def _view_points(view: BoardView, board: Board) -> tuple[np.ndarray, np.ndarray]:
+    return board.points[view.ids], np.asarray(view.corners, np.float32).reshape(-1, 1, 2)
+
+
+def calibrate_from_views(
+    views: Sequence[BoardView],
+    *,
+    board: Board,
+    image_size: tuple[int, int],
+    estimate_k3: bool = False,
+    rational: bool = False,
+) -> CameraModel:
+    """Calibrate one camera from board detections (OpenCV ``calibrateCamera``).
+
+    Parameters
+    ----------
+    views : sequence of BoardView
+        One per image, from :func:`~depthrefine.rig.boards.detect_board`;
+        a ChArUco view may hold any subset of the corners.
+    board : Board
+    image_size : (int, int)
+        ``(width, height)`` of the images.
+    estimate_k3 : bool
+        Also fit the sixth-order radial term ``k3``. Off by default, as in the
+        Camera Calibration Toolbox the thesis used: with few views ``k3``
+        over-fits the image corners.
+    rational : bool
+        Fit the rational model (8 coefficients, ``k3`` included).
+
+    Returns
+    -------
+    CameraModel
+        ``dist`` holds ``(k1, k2, p1, p2, k3)`` (or the 8 rational
+        coefficients); ``rms`` the RMS reprojection error in pixels.
+
+    Raises
+    ------
+    ValueError
+        Fewer than :data:`MIN_VIEWS` usable views (the message says how many
+        corners each view has), or a view with the wrong corners.
+    """
+    if not isinstance(board, Board):
+        raise TypeError(f"board must be a Board; got {type(board).__name__}.")
+    views = list(views)
+    bad = [i for i, v in enumerate(views) if not usable(v, board)]
+    if bad or len(views) < MIN_VIEWS:
+        counts = ", ".join(str(v.count if v is not None else 0) for v in views)
+        need = ("all " + str(board.points.shape[0]) if board.kind == "checkerboard"
+                else f"at least {MIN_VIEW_CORNERS} non-collinear")
+        raise ValueError(
+            f"calibration needs at least {MIN_VIEWS} views with {need} corners of the {board.describe()}; "
+            f"got {len(views)} view(s) with {counts or 'no'} corners ({len(bad)} not usable)."
+        )
+    width, height = _check_size(image_size)
+    flags, n_dist = _flags(estimate_k3, rational)
+    obj, img = zip(*(_view_points(v, board) for v in views))
+    rms, K, dist, _, _ = cv2.calibrateCamera(list(obj), list(img), (width, height), None, None, flags=flags)
+    return CameraModel(K, dist.ravel()[:n_dist], (width, height), float(rms))
+
+
 def calibrate_from_corners(
     corners: Sequence[np.ndarray],
     *,
@@ -47,87 +134,156 @@ def calibrate_from_corners(
     square_size: float,
     image_size: tuple[int, int],
     estimate_k3: bool = False,
+    rational: bool = False,
 ) -> CameraModel:
-    """Calibrate one camera from detected board corners (OpenCV ``calibrateCamera``).
+    """Calibrate one camera from checkerboard corners (all corners of each view).
 
     Parameters
     ----------
     corners : sequence of (N, 2) float32 ndarray
-        One array per view, as returned by :func:`find_board_corners`.
+        One array per view, as returned by
+        :func:`~depthrefine.rig.boards.find_board_corners`.
     board : (int, int)
         Inner corners ``(cols, rows)``.
     square_size : float
         Side of a square, metres (only the extrinsics depend on it).
-    image_size : (int, int)
-        ``(width, height)`` of the images.
-    estimate_k3 : bool
-        Also fit the sixth-order radial term ``k3``. Off by default, as in the
-        Camera Calibration Toolbox the thesis used: with few views ``k3``
-        over-fits the image corners.
-
-    Returns
-    -------
-    CameraModel
-        ``dist`` holds ``(k1, k2, p1, p2, k3)``; ``rms`` the RMS reprojection
-        error in pixels.
+    image_size, estimate_k3, rational
+        As in :func:`calibrate_from_views`.
 
     Raises
     ------
     ValueError
         Fewer than :data:`MIN_VIEWS` views, or corner arrays of the wrong size.
     """
-    cols, rows = _check_board(board)
-    views = [np.asarray(c, dtype=np.float32).reshape(-1, 2) for c in corners]
-    if len(views) < MIN_VIEWS:
+    spec = as_board(board, square_size)
+    cols, rows = spec.inner_corners
+    arrays = [np.asarray(c, dtype=np.float32).reshape(-1, 2) for c in corners]
+    if len(arrays) < MIN_VIEWS:
         raise ValueError(
-            f"calibration needs the board in at least {MIN_VIEWS} images; got {len(views)}. "
+            f"calibration needs the board in at least {MIN_VIEWS} images; got {len(arrays)}. "
             "Take more views (10-20 covering the whole image are best)."
         )
-    for i, v in enumerate(views):
+    for i, v in enumerate(arrays):
         if v.shape[0] != cols * rows:
             raise ValueError(f"view {i} has {v.shape[0]} corners; the board {cols}x{rows} has {cols * rows}.")
-    width, height = _check_size(image_size)
-    obj = board_points(board, square_size)
-    flags = 0 if estimate_k3 else cv2.CALIB_FIX_K3
-    rms, K, dist, _, _ = cv2.calibrateCamera(
-        [obj] * len(views), [v.reshape(-1, 1, 2) for v in views], (width, height), None, None, flags=flags
-    )
-    return CameraModel(K, dist.ravel()[:5], (width, height), float(rms))
+    views = [BoardView(np.arange(v.shape[0], dtype=np.int32), v) for v in arrays]
+    return calibrate_from_views(views, board=spec, image_size=image_size, estimate_k3=estimate_k3,
+                                rational=rational)
 
 
 def calibrate_camera(
     images: Sequence[np.ndarray],
     *,
-    board: tuple[int, int],
-    square_size: float,
+    board: Board | tuple[int, int],
+    square_size: float | None = None,
     estimate_k3: bool = False,
+    rational: bool = False,
 ) -> CameraModel:
-    """Calibrate one camera from checkerboard images (spec step 1).
+    """Calibrate one camera from images of a board (spec step 1).
 
-    Images in which the board is not found are skipped; use
-    :func:`find_board_corners` and :func:`calibrate_from_corners` to learn
-    which. See :func:`calibrate_from_corners` for the parameters.
+    Images in which the board is not found (or, for ChArUco, fewer than
+    :data:`~depthrefine.rig.boards.MIN_VIEW_CORNERS` corners) are skipped;
+    use :func:`~depthrefine.rig.boards.detect_board` and
+    :func:`calibrate_from_views` to learn which. See
+    :func:`calibrate_from_views` for the parameters.
 
     Raises
     ------
     ValueError
         Images of different sizes, or the board found in fewer than
-        :data:`MIN_VIEWS` images (the message lists the others by index).
+        :data:`MIN_VIEWS` images (the message gives the corners found in each).
     """
+    spec = as_board(board, square_size)
     if len(images) == 0:
-        raise ValueError("no images given; calibration needs checkerboard images.")
+        raise ValueError("no images given; calibration needs images of the board.")
     size = _common_size(images, "images")
-    found = [find_board_corners(img, board) for img in images]
-    views = [c for c in found if c is not None]
+    found = [detect_board(img, spec) for img in images]
+    views = [v for v in found if usable(v, spec)]
     if len(views) < MIN_VIEWS:
-        missing = [i for i, c in enumerate(found) if c is None]
+        missing = [i for i, v in enumerate(found) if not usable(v, spec)]
         raise ValueError(
-            f"the {board[0]}x{board[1]} board was found in {len(views)} of {len(images)} images "
-            f"(not in images {missing}); calibration needs at least {MIN_VIEWS}. "
-            "Check --board (inner corners, cols x rows) and the images."
+            f"the {spec.describe()} was found in {len(views)} of {len(images)} images "
+            f"(not in images {missing}); corners found per image: {[v.count for v in found]}; "
+            f"calibration needs at least {MIN_VIEWS}. Check the board and the images."
         )
-    return calibrate_from_corners(views, board=board, square_size=square_size, image_size=size,
-                                  estimate_k3=estimate_k3)
+    return calibrate_from_views(views, board=spec, image_size=size, estimate_k3=estimate_k3, rational=rational)
+
+
+def calibrate_stereo_from_views(
+    depth_views: Sequence[BoardView | None],
+    color_views: Sequence[BoardView | None],
+    *,
+    board: Board,
+    depth_size: tuple[int, int],
+    color_size: tuple[int, int],
+    depth_camera: CameraModel | None = None,
+    color_camera: CameraModel | None = None,
+    estimate_k3: bool = False,
+    rational: bool = False,
+) -> StereoRig:
+    """Calibrate a depth + color rig from board detections in pairs of images.
+
+    Parameters
+    ----------
+    depth_views, color_views : sequences of BoardView or None
+        Detections of pair ``i`` in each camera (``None`` or unusable where
+        the board was not found). A ChArUco pair uses the corners found in
+        both images.
+    board : Board
+        Its ``square_size`` in metres gives ``t`` in metres.
+    depth_size, color_size : (int, int)
+        ``(width, height)`` of each camera's images.
+    depth_camera, color_camera : CameraModel, optional
+        Known intrinsics (e.g. from ``depthrefine calibrate``); otherwise each
+        camera is calibrated from all its own views first.
+    estimate_k3, rational
+        As in :func:`calibrate_from_views`.
+
+    Returns
+    -------
+    StereoRig
+        ``R``, ``t`` from ``stereoCalibrate`` with the intrinsics held fixed.
+
+    Raises
+    ------
+    ValueError
+        Lists of different lengths, or fewer than :data:`MIN_VIEWS` pairs with
+        the board found in both images.
+    """
+    if not isinstance(board, Board):
+        raise TypeError(f"board must be a Board; got {type(board).__name__}.")
+    if len(depth_views) != len(color_views):
+        raise ValueError(
+            f"got {len(depth_views)} depth views and {len(color_views)} color views; "
+            "give the images in pairs (the same board pose in both, in the same order)."
+        )
+    pairs = []
+    for d, c in zip(depth_views, color_views):
+        if not (usable(d, board) and usable(c, board)):
+            continue
+        common, d_idx, c_idx = np.intersect1d(d.ids, c.ids, assume_unique=True, return_indices=True)
+        both = (BoardView(common.astype(np.int32), d.corners[d_idx]), BoardView(common.astype(np.int32), c.corners[c_idx]))
+        if usable(both[0], board):
+            pairs.append(both)
+    if len(pairs) < MIN_VIEWS:
+        raise ValueError(
+            f"the board was found in both images of {len(pairs)} pairs; a stereo calibration needs at "
+            f"least {MIN_VIEWS}. Take more pairs with the board visible to both cameras."
+        )
+    fit = dict(board=board, estimate_k3=estimate_k3, rational=rational)
+    if depth_camera is None:
+        depth_camera = calibrate_from_views([d for d in depth_views if usable(d, board)], image_size=depth_size, **fit)
+    if color_camera is None:
+        color_camera = calibrate_from_views([c for c in color_views if usable(c, board)], image_size=color_size, **fit)
+    obj = [board.points[d.ids] for d, _ in pairs]
+    rms, _, _, _, _, R, T, _, _ = cv2.stereoCalibrate(
+        obj,
+        [d.corners.reshape(-1, 1, 2) for d, _ in pairs],
+        [c.corners.reshape(-1, 1, 2) for _, c in pairs],
+        depth_camera.K.copy(), depth_camera.dist.copy(), color_camera.K.copy(), color_camera.dist.copy(),
+        _check_size(depth_size), flags=cv2.CALIB_FIX_INTRINSIC,
+    )
+    return StereoRig(depth_camera, color_camera, R, T.ravel(), float(rms))
 
 
 def calibrate_stereo_from_corners(
@@ -141,88 +297,56 @@ def calibrate_stereo_from_corners(
     depth_camera: CameraModel | None = None,
     color_camera: CameraModel | None = None,
     estimate_k3: bool = False,
+    rational: bool = False,
 ) -> StereoRig:
-    """Calibrate a depth + color rig from board corners seen by both cameras.
+    """Calibrate a depth + color rig from checkerboard corners seen by both cameras.
 
-    Parameters
-    ----------
-    depth_corners, color_corners : sequences of (N, 2) float32 ndarray or None
-        Corners of pair ``i`` in each camera (``None`` where not found).
-    board, square_size, estimate_k3
-        As in :func:`calibrate_from_corners`; ``square_size`` in metres gives
-        ``t`` in metres.
-    depth_size, color_size : (int, int)
-        ``(width, height)`` of each camera's images.
-    depth_camera, color_camera : CameraModel, optional
-        Known intrinsics (e.g. from ``depthrefine calibrate``); otherwise each
-        camera is calibrated from all its own views first.
-
-    Returns
-    -------
-    StereoRig
-        ``R``, ``t`` from ``stereoCalibrate`` with the intrinsics held fixed.
-
-    Raises
-    ------
-    ValueError
-        Lists of different lengths, or fewer than :data:`MIN_VIEWS` pairs with
-        the board found in both images.
+    ``depth_corners[i]`` and ``color_corners[i]`` are the corners of pair
+    ``i`` (:func:`~depthrefine.rig.boards.find_board_corners`, ``None`` where
+    not found); ``board`` is ``(cols, rows)`` inner corners. See
+    :func:`calibrate_stereo_from_views` for the rest.
     """
-    if len(depth_corners) != len(color_corners):
-        raise ValueError(
-            f"got {len(depth_corners)} depth views and {len(color_corners)} color views; "
-            "give the images in pairs (the same board pose in both, in the same order)."
-        )
-    pairs = [(d, c) for d, c in zip(depth_corners, color_corners) if d is not None and c is not None]
-    if len(pairs) < MIN_VIEWS:
-        raise ValueError(
-            f"the board was found in both images of {len(pairs)} pairs; a stereo calibration needs at "
-            f"least {MIN_VIEWS}. Take more pairs with the whole board visible to both cameras."
-        )
-    if depth_camera is None:
-        depth_camera = calibrate_from_corners([d for d in depth_corners if d is not None], board=board,
-                                              square_size=square_size, image_size=depth_size,
-                                              estimate_k3=estimate_k3)
-    if color_camera is None:
-        color_camera = calibrate_from_corners([c for c in color_corners if c is not None], board=board,
-                                              square_size=square_size, image_size=color_size,
-                                              estimate_k3=estimate_k3)
-    obj = board_points(board, square_size)
-    rms, _, _, _, _, R, T, _, _ = cv2.stereoCalibrate(
-        [obj] * len(pairs),
-        [np.asarray(d, np.float32).reshape(-1, 1, 2) for d, _ in pairs],
-        [np.asarray(c, np.float32).reshape(-1, 1, 2) for _, c in pairs],
-        depth_camera.K.copy(), depth_camera.dist.copy(), color_camera.K.copy(), color_camera.dist.copy(),
-        _check_size(depth_size), flags=cv2.CALIB_FIX_INTRINSIC,
+    spec = as_board(board, square_size)
+
+    def view(c: np.ndarray | None) -> BoardView | None:
+        if c is None:
+            return None
+        c = np.asarray(c, np.float32).reshape(-1, 2)
+        return BoardView(np.arange(c.shape[0], dtype=np.int32), c)
+
+    return calibrate_stereo_from_views(
+        [view(c) for c in depth_corners], [view(c) for c in color_corners], board=spec, depth_size=depth_size,
+        color_size=color_size, depth_camera=depth_camera, color_camera=color_camera, estimate_k3=estimate_k3,
+        rational=rational,
     )
-    return StereoRig(depth_camera, color_camera, R, T.ravel(), float(rms))
 
 
 def calibrate_stereo(
     depth_images: Sequence[np.ndarray],
     color_images: Sequence[np.ndarray],
     *,
-    board: tuple[int, int],
-    square_size: float,
+    board: Board | tuple[int, int],
+    square_size: float | None = None,
     depth_camera: CameraModel | None = None,
     color_camera: CameraModel | None = None,
     estimate_k3: bool = False,
+    rational: bool = False,
 ) -> StereoRig:
-    """Calibrate a depth + color rig from pairs of checkerboard images.
+    """Calibrate a depth + color rig from pairs of board images.
 
     ``depth_images[i]`` (the ToF camera's intensity image) and
     ``color_images[i]`` show the same board pose. See
-    :func:`calibrate_stereo_from_corners` for the parameters and errors.
+    :func:`calibrate_stereo_from_views` for the parameters and errors.
     """
+    spec = as_board(board, square_size)
     depth_size = _common_size(depth_images, "depth_images")
     color_size = _common_size(color_images, "color_images")
-    return calibrate_stereo_from_corners(
-        [find_board_corners(img, board) for img in depth_images],
-        [find_board_corners(img, board) for img in color_images],
-        board=board, square_size=square_size, depth_size=depth_size, color_size=color_size,
-        depth_camera=depth_camera, color_camera=color_camera, estimate_k3=estimate_k3,
+    return calibrate_stereo_from_views(
+        [detect_board(img, spec) for img in depth_images],
+        [detect_board(img, spec) for img in color_images],
+        board=spec, depth_size=depth_size, color_size=color_size,
+        depth_camera=depth_camera, color_camera=color_camera, estimate_k3=estimate_k3, rational=rational,
     )
-
 
 
 def _check_size(size: Any) -> tuple[int, int]:
