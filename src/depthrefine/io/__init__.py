@@ -11,6 +11,7 @@ from ._params import read_mapping, read_patch_layout
 from ._camera import (
     ChainSettings, read_camera, read_chain_settings, read_rig, write_camera, write_chain_settings, write_rig,
 )
+from ._calibration import read_calibration
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
 from ._datasets import (DATASET_READERS, TRIPLET_FOLDERS, DatasetScene, dataset_folder, read_dataset,
@@ -41,6 +42,7 @@ __all__ = [
     "write_rig",
     "read_chain_settings",
     "write_chain_settings",
+    "read_calibration",
     "read_ply",
     "write_ply",
     "SAMPLE_SCALES",

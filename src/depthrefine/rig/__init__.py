@@ -1,8 +1,9 @@
 """Two cameras to one pixel grid (thesis chapter 3): models, calibration, undistortion, alignment.
 
 - ``camera``      :class:`CameraModel` (pinhole + distortion) and :class:`StereoRig` (depth -> color)
-- ``boards``      calibration boards: corner coordinates and detection
+- ``boards``      calibration boards (checkerboard, ChArUco): corner coordinates, detection, pictures
 - ``calibrate``   single-camera and stereo calibration from board views
+- ``formats``     calibrations of other tools: Azure Kinect factory (K4A), OpenCV YAML, ROS camera_info
 - ``undistort``   undistortion of depth maps and color images (spec step 1)
 - ``shift``       the thesis's horizontal shift alignment (spec step 3)
 - ``reproject``   calibrated reprojection of depth into the color camera
@@ -13,8 +14,11 @@ Everything here is pure (arrays in, arrays out); files are read by :mod:`depthre
 """
 
 from .camera import CameraModel, StereoRig, check_camera_shape
-from .boards import board_points, to_gray8, find_board_corners
-from .calibrate import MIN_VIEWS, calibrate_from_corners, calibrate_camera, calibrate_stereo_from_corners, calibrate_stereo
+from .boards import (BOARD_KINDS, DICTIONARIES, MIN_VIEW_CORNERS, Board, BoardView, board_points, to_gray8,
+                     find_board_corners, detect_board, render_board)
+from .calibrate import (MIN_VIEWS, calibrate_from_views, calibrate_from_corners, calibrate_camera,
+                        calibrate_stereo_from_views, calibrate_stereo_from_corners, calibrate_stereo)
+from .formats import K4A_DEPTH_MODES, K4A_COLOR_RESOLUTIONS, rig_from_k4a, camera_from_opencv, camera_from_ros
 from .undistort import undistort_maps, distort_maps, undistort_depth, undistort_image, distort_depth, distort_image
 from .shift import COLOR_SIDES, ENCODINGS, MAX_PARALLEL_ROTATION, MAX_SHIFT_MISREGISTRATION, AlignmentWarning, background_depth, align_shift, ShiftModel, shift_from_rig, shift_misregistration
 from .reproject import reproject_camera, align_reproject
@@ -25,14 +29,28 @@ __all__ = [
     "CameraModel",
     "StereoRig",
     "check_camera_shape",
+    "BOARD_KINDS",
+    "DICTIONARIES",
+    "MIN_VIEW_CORNERS",
+    "Board",
+    "BoardView",
     "board_points",
     "to_gray8",
     "find_board_corners",
+    "detect_board",
+    "render_board",
     "MIN_VIEWS",
+    "calibrate_from_views",
     "calibrate_from_corners",
     "calibrate_camera",
+    "calibrate_stereo_from_views",
     "calibrate_stereo_from_corners",
     "calibrate_stereo",
+    "K4A_DEPTH_MODES",
+    "K4A_COLOR_RESOLUTIONS",
+    "rig_from_k4a",
+    "camera_from_opencv",
+    "camera_from_ros",
     "undistort_maps",
     "distort_maps",
     "undistort_depth",

@@ -85,7 +85,7 @@ def calibration_format(mapping: Mapping[str, Any]) -> str | None:
         return "k4a"
     if "distortion_model" in mapping or "camera_matrix" in mapping:
         return "ros"
-    if "K" in mapping and ("dist" in mapping or "img_size" in mapping):
+    if "K" in mapping and "img_size" in mapping:
         return "opencv"
     return None
 
