@@ -33,6 +33,8 @@ COMMAND_MODULES = [
     "show",
     "demo",
     "calibrate",
+    "rig",
+    "board",
     "align",
     "undistort",
     "run",

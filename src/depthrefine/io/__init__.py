@@ -11,6 +11,7 @@ from ._params import read_mapping, read_patch_layout
 from ._camera import (
     ChainSettings, read_camera, read_chain_settings, read_rig, write_camera, write_chain_settings, write_rig,
 )
+from ._board import PAPER_SIZES_MM, write_board_pdf, write_board_png
 from ._calibration import read_calibration
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
@@ -43,6 +44,9 @@ __all__ = [
     "read_chain_settings",
     "write_chain_settings",
     "read_calibration",
+    "PAPER_SIZES_MM",
+    "write_board_png",
+    "write_board_pdf",
     "read_ply",
     "write_ply",
     "SAMPLE_SCALES",
