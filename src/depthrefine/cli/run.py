@@ -8,8 +8,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 
-from ..rig.chain import align_pair
+from ..rig.chain import align_pair, keep_unmeasured
 from ..io import (DEPTH_SUFFIXES, check_depth_format, ChainSettings, check_output, read_depth,
                   read_rgb, write_chain_settings, write_depth, write_ply)
 from ..methods.registry import DEFAULT_METHOD, METHODS, refine
@@ -69,6 +70,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         f"refinement method, as refine --method (default: the settings file's [refine] method, else "
         f"{DEFAULT_METHOD}); --method is the alignment method here, as in align"))
     p.set_defaults(method=None)
+    p.add_argument("--fill-holes", action="store_true",
+                   help="keep the refinement's depth everywhere; default: pixels no depth measurement reached "
+                        "(outside the depth camera's view, invalid in DEPTH, or hidden from it) stay invalid (0)")
     p.add_argument("--ply", metavar="FILE", help="also write the refined depth as a colored point cloud (.ply)")
     p.add_argument("--stride", type=int, default=1, metavar="N",
                    help="point cloud (--ply): keep every N-th row and column (default 1), as export-ply --stride")
@@ -127,6 +131,8 @@ def run_chain(args: argparse.Namespace) -> int:
         depth_hr = refine(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
     finally:
         close()
+    if not args.fill_holes:
+        depth_hr = keep_unmeasured(depth_hr, pair.depth_lr)
     stored, dtype = output_depth(args, depth_hr, depth_raw.dtype)
     cloud = None
     if args.ply:
@@ -155,6 +161,8 @@ def run_chain(args: argparse.Namespace) -> int:
         raise
     h, w = depth_hr.shape
     notes = list(pair.notes) + [step.describe(), f"refined with {method}"]
+    if not args.fill_holes:
+        notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0; --fill-holes fills them)")
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
     if cloud is not None:
         print(f"wrote {extra_outputs['--ply']} ({cloud[0].shape[0]} points)", file=sys.stderr)

@@ -21,7 +21,8 @@ from .reproject import align_reproject, reproject_camera
 from .shift import (COLOR_SIDES, ENCODINGS, MAX_SHIFT_MISREGISTRATION, align_shift, background_depth, shift_from_rig, shift_misregistration)
 from .undistort import undistort_depth, undistort_image
 
-__all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair"]
+__all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "unmeasured_on_grid",
+           "keep_unmeasured"]
 
 
 
@@ -218,6 +219,41 @@ def align_pair(
         notes.append("color image taken as already undistorted")
     return AlignedPair(depth_lr, rgb, color_cam.without_distortion(), settings.method,
                        tuple(notes) + depth_notes)
+
+
+def unmeasured_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Where on a ``shape = (rows, cols)`` grid no depth was measured: ``depth_lr``'s invalid pixels, enlarged.
+
+    Each pixel of ``depth_lr`` covers the block of the larger grid it is
+    spread over by the refinement (nearest, pixel centres aligned), so a
+    pixel is unmeasured when the aligned depth has no value there: outside
+    the depth camera's view (the Azure Kinect's NFOV hexagon), invalid in the
+    raw map, or hidden from the depth camera (a disocclusion).
+
+    Examples
+    --------
+    >>> unmeasured_on_grid(np.array([[1.0, np.nan]]), (2, 4)).astype(int).tolist()
+    [[0, 0, 1, 1], [0, 0, 1, 1]]
+    """
+    import cv2
+
+    d = check_depth(depth_lr, "depth_lr").astype(np.float32)
+    with np.errstate(invalid="ignore"):
+        invalid = ~(np.isfinite(d) & (d > 0))
+    rows, cols = int(shape[0]), int(shape[1])
+    return cv2.resize(invalid.astype(np.uint8), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT).astype(bool)
+
+
+def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray) -> np.ndarray:
+    """``depth_hr`` (float32) with NaN wherever :func:`unmeasured_on_grid` says nothing was measured.
+
+    A refinement fills every pixel; this takes back the depth it invented
+    where the sensor saw nothing (``depthrefine run`` does this unless
+    ``--fill-holes``).
+    """
+    out = np.array(depth_hr, dtype=np.float32, copy=True)
+    out[unmeasured_on_grid(depth_lr, out.shape[:2])] = np.nan
+    return out
 
 
 def _undistorts_color(rig: StereoRig, settings: AlignSettings) -> bool:
