@@ -14,7 +14,7 @@ from ._camera import (
 from ._board import PAPER_SIZES_MM, write_board_pdf, write_board_png
 from ._calibration import read_calibration
 from ._ply import read_ply, write_ply
-from ._sample import SAMPLE_SCALES, SampleScene, load_sample, sample_folder
+from ._sample import SAMPLE_SCALES, SCENES, RealCapture, SampleScene, load_capture, load_sample, sample_folder
 from ._datasets import (DATASET_READERS, TRIPLET_FOLDERS, DatasetScene, dataset_folder, read_dataset,
                         read_rgbd_pairs, read_scene_folders, read_triplets)
 
@@ -53,6 +53,9 @@ __all__ = [
     "SampleScene",
     "load_sample",
     "sample_folder",
+    "SCENES",
+    "RealCapture",
+    "load_capture",
     "DATASET_READERS",
     "DatasetScene",
     "dataset_folder",

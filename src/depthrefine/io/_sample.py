@@ -1,4 +1,10 @@
-"""The sample scene shipped with the package (Middlebury 2005 Art, Park et al. noisy inputs)."""
+"""The sample scenes shipped with the package.
+
+``art``: Middlebury 2005 Art with the noisy inputs of Park et al. (ground
+truth); ``mug``: a real Azure Kinect ToF capture with its factory
+calibration; ``bookshelf``: a real iPhone LiDAR frame registered to its RGB
+image. Each folder under ``data/`` has a README (source, licence) and SHA256SUMS.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +16,10 @@ import numpy as np
 
 from ._images import read_depth, read_rgb
 
-__all__ = ["SampleScene", "load_sample", "SAMPLE_SCALES", "sample_folder"]
+__all__ = ["SampleScene", "load_sample", "SAMPLE_SCALES", "sample_folder", "SCENES", "RealCapture", "load_capture"]
+
+#: The shipped scenes (``depthrefine demo --scene``).
+SCENES = ("art", "mug", "bookshelf")
 
 #: Scale factors of the shipped low-resolution inputs.
 SAMPLE_SCALES = (4, 8, 16)
@@ -38,9 +47,68 @@ class SampleScene:
     citation: str
 
 
-def sample_folder() -> Path:
-    """Folder of the shipped sample scene (inside the installed package)."""
-    return Path(str(resources.files("depthrefine") / "data" / "art"))
+def sample_folder(scene: str = "art") -> Path:
+    """Folder of a shipped sample scene (inside the installed package)."""
+    if scene not in SCENES:
+        raise ValueError(f"scene must be one of {SCENES}; got {scene!r}.")
+    return Path(str(resources.files("depthrefine") / "data" / scene))
+
+
+@dataclass(frozen=True)
+class RealCapture:
+    """A real capture without ground truth.
+
+    Attributes
+    ----------
+    name : str
+    depth : (h, w) uint16 ndarray
+        Raw depth in millimetres, 0 = no measurement.
+    rgb : (H, W, 3) uint8 RGB
+    depth_units : float
+        Metres per depth unit (0.001).
+    calibration : Path or None
+        The factory calibration file (``mug``: Azure Kinect K4A JSON), None
+        when the depth is already registered to the color image.
+    citation : str
+    """
+
+    name: str
+    depth: np.ndarray
+    rgb: np.ndarray
+    depth_units: float
+    calibration: Path | None
+    citation: str
+
+
+_CAPTURES = {
+    "mug": ("calibration.json", "Azure Kinect DK capture from github.com/etiennedub/pyk4a (tests/assets, commit "
+            "8c15316), MIT licence, Copyright (c) 2019 etiennedub."),
+    "bookshelf": (None, "iPhone LiDAR (ARKit) frame from github.com/DepthAnything/PromptDA (assets/example_images, "
+                  "commit b05523c), Apache License 2.0."),
+}
+
+
+def load_capture(name: str) -> RealCapture:
+    """Load a shipped real capture: ``"mug"`` (Azure Kinect) or ``"bookshelf"`` (iPhone LiDAR).
+
+    Examples
+    --------
+    >>> cap = load_capture("mug")
+    >>> cap.depth.shape, cap.rgb.shape, cap.calibration.name
+    ((576, 640), (720, 1280, 3), 'calibration.json')
+    """
+    if name not in _CAPTURES:
+        raise ValueError(f"the real captures are {tuple(_CAPTURES)}; got {name!r}.")
+    folder = sample_folder(name)
+    calibration, citation = _CAPTURES[name]
+    return RealCapture(
+        name=name,
+        depth=read_depth(folder / "depth.png"),
+        rgb=read_rgb(folder / "color.jpg"),
+        depth_units=0.001,
+        calibration=None if calibration is None else folder / calibration,
+        citation=citation,
+    )
 
 
 def load_sample(scale: int = 8) -> SampleScene:
