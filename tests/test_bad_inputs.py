@@ -36,7 +36,7 @@ import depthrefine
 from depthrefine import RefineParams, cli
 from depthrefine import _validate
 from depthrefine.io import _images as images
-from depthrefine.io import read_depth, read_mapping, read_patch_layout, read_rgb
+from depthrefine.io import read_depth, read_mapping, read_patch_layout, read_rgb, sample_folder
 from depthrefine.methods.thesis.params import params_from_mapping
 
 # ----------------------------------------------------------------------------
@@ -731,6 +731,20 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
     "demo: output is a file": lambda ws: Case(["demo", "-o", str(ws.out / "earlier.png")], ["earlier.png", "give a folder name"]),
     "demo: output folder not empty": lambda ws: Case(["demo", "-o", str(ws.out)], [str(ws.out), "pass --overwrite"]),
     "demo: scale 3": lambda ws: Case(["demo", "-o", str(ws.out / "d"), "--scale", "3"], ["--scale", "invalid choice"]),
+    "demo: unknown scene": lambda ws: Case(["demo", "-o", str(ws.out / "d"), "--scene", "kitchen"],
+                                           ["--scene", "invalid choice"]),
+    # rig import, board
+    "rig: calibration file of the wrong kind": lambda ws: Case(
+        ["rig", "import", str(ws.color), "-o", str(ws.out / "rig.json")], [str(ws.color), "not a text file"]),
+    "rig: K4A file without the mode": lambda ws: Case(
+        ["rig", "import", str(ws.file("calibration.json", (sample_folder("mug") / "calibration.json").read_text())),
+         "-o", str(ws.out / "rig.json")], ["calibration.json", "give --depth-mode"]),
+    "board: too large for the page": lambda ws: Case(
+        ["board", "--board", "charuco:14x9", "--square", "40mm", "--marker", "30mm", "-o", str(ws.out / "b.pdf")],
+        ["560 x 360 mm", "does not fit on A4"]),
+    "board: unknown dictionary": lambda ws: Case(
+        ["board", "--board", "charuco:5x7", "--square", "30mm", "--marker", "22mm", "--dictionary", "DICT_5X5",
+         "-o", str(ws.out / "b.png")], ["--dictionary", "unknown ArUco dictionary 'DICT_5X5'"]),
     # show
     "show: depth missing": lambda ws: Case(["show", str(ws.inputs / "none.png"), "-o", str(ws.out / "s.png")],
                                            ["none.png", "does not exist"]),
