@@ -116,8 +116,8 @@ def test_rig_import_k4a_gives_the_factory_figures(tmp_path, capsys):
         assert np.abs(np.array(_intrinsics(camera)) - MUG_FIGURES[name]).max() < 0.01, name
     assert rig.depth_camera.image_size == (640, 576) and rig.color_camera.image_size == (1280, 720)
     assert rig.depth_camera.dist.size == 8
-    # depth -> color: the color camera sits 32 mm to the depth camera's left (-x), tilted about 5 degrees
-    assert np.allclose(rig.t, [-0.032083, -0.002205, 0.003884], atol=1e-6)
+    # depth -> color: the color camera sits 32 mm along the depth camera's +x axis, turned about 5 degrees
+    assert np.allclose(rig.t, [-0.032083, -0.002205, 0.003884], atol=1e-6) and 0.031 < rig.color_centre[0] < 0.033
     assert 4.5 < rig.rotation_degrees < 5.5
     data = json.loads(out.read_text())
     assert data["depth_mode"] == "NFOV_UNBINNED" and data["imported_from"] == "calibration.json"
