@@ -221,8 +221,11 @@ def mug_run(tmp_path_factory) -> dict[str, Path]:
     assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(rig), "--depth-units",
                  "0.001", "-o", str(out["refined"]), "--ply", str(out["ply"]), "--save-aligned",
                  str(out["aligned"])]) == 0
+    settings = folder / "settings.json"
     assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(rig), "--depth-units",
-                 "0.001", "-o", str(out["filled"]), "--fill-holes"]) == 0
+                 "0.001", "-o", str(out["filled"]), "--fill-holes", "--save-settings", str(settings)]) == 0
+    assert json.loads(settings.read_text())["refine"]["fill_holes"] is True
+    out["settings"] = settings
     return out
 
 
@@ -261,6 +264,11 @@ def test_mug_unmeasured_pixels_stay_invalid_unless_fill_holes(mug_run):
     assert np.array_equal(refined == 0, aligned == 0)  # s = 1: exactly the reprojected depth's holes
     assert 0.40 < (refined == 0).mean() < 0.50
     assert (filled == 0).mean() < 0.01  # --fill-holes: the refinement's depth everywhere
+    again = mug_run["filled"].with_name("again.png")  # fill_holes = true read back from the settings file
+    scene = sample_folder("mug")
+    assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(mug_run["settings"]),
+                 "-o", str(again)]) == 0
+    assert again.read_bytes() == mug_run["filled"].read_bytes()
     both = (refined > 0)
     assert np.array_equal(filled[both], refined[both])
     points, colors = read_ply(mug_run["ply"])

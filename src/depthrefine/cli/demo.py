@@ -22,7 +22,8 @@ UNITS = "disparity levels"
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "demo",
-        help="run the methods on the shipped Middlebury 2005 Art scene and write a comparison figure",
+        help="run the methods on a shipped scene and write a comparison figure: Middlebury 2005 Art (default) "
+             "or, with --scene, a real Azure Kinect or iPhone LiDAR capture",
         description=(
             "Refine the shipped Middlebury 2005 Art scene (noisy low-resolution disparity of Park et al.) "
             "with bilinear interpolation, the OpenCV peers (jbf, guided, fgs, wmf), the thesis method and "

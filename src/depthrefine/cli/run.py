@@ -72,7 +72,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(method=None)
     p.add_argument("--fill-holes", action="store_true",
                    help="keep the refinement's depth everywhere; default: pixels no depth measurement reached "
-                        "(outside the depth camera's view, invalid in DEPTH, or hidden from it) stay invalid (0)")
+                        "(outside the depth camera's view, invalid in DEPTH, or hidden from it) stay invalid (0). "
+                        "Also fill_holes = true in the settings file's [refine]")
     p.add_argument("--ply", metavar="FILE", help="also write the refined depth as a colored point cloud (.ply)")
     p.add_argument("--stride", type=int, default=1, metavar="N",
                    help="point cloud (--ply): keep every N-th row and column (default 1), as export-ply --stride")
@@ -131,7 +132,8 @@ def run_chain(args: argparse.Namespace) -> int:
         depth_hr = refine(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
     finally:
         close()
-    if not args.fill_holes:
+    fill_holes = args.fill_holes or chain.fill_holes
+    if not fill_holes:
         depth_hr = keep_unmeasured(depth_hr, pair.depth_lr)
     stored, dtype = output_depth(args, depth_hr, depth_raw.dtype)
     cloud = None
@@ -152,7 +154,7 @@ def run_chain(args: argparse.Namespace) -> int:
                                                "metres, color camera frame: X right, Y down, Z forward")))
         if "--save-settings" in extra_outputs:
             used = ChainSettings(rig=chain.rig, align=align, method=method, params=params_dict(params),
-                                 rig_source=chain.rig_source)
+                                 rig_source=chain.rig_source, fill_holes=fill_holes)
             written.append(write_chain_settings(extra_outputs["--save-settings"], used, overwrite=args.overwrite))
     except BaseException:
         for path in written:  # all or nothing
@@ -161,7 +163,7 @@ def run_chain(args: argparse.Namespace) -> int:
         raise
     h, w = depth_hr.shape
     notes = list(pair.notes) + [step.describe(), f"refined with {method}"]
-    if not args.fill_holes:
+    if not fill_holes:
         notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0; --fill-holes fills them)")
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
     if cloud is not None:

@@ -54,7 +54,7 @@ __all__ = [
 ]
 
 _CHAIN_KEYS = ("rig", "align", "refine")
-_REFINE_KEYS = ("method", "params")
+_REFINE_KEYS = ("method", "params", "fill_holes")
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,6 +73,9 @@ class ChainSettings:
         ``[refine.params]``: the method's parameters, checked when the method is known.
     rig_source : str or None
         Where the rig came from (a file path, or ``"inline"``).
+    fill_holes : bool
+        ``[refine] fill_holes``: keep the refinement's depth where nothing was
+        measured (``run --fill-holes``); default false.
     """
 
     rig: StereoRig | None = None
@@ -80,6 +83,7 @@ class ChainSettings:
     method: str | None = None
     params: dict[str, Any] = field(default_factory=dict)
     rig_source: str | None = None
+    fill_holes: bool = False
 
     def to_dict(self, *, inline_rig: bool = True) -> dict[str, Any]:
         """JSON-ready dict in the file layout (unset align options left out)."""
@@ -92,6 +96,8 @@ class ChainSettings:
             refine["method"] = self.method
         if self.params:
             refine["params"] = dict(self.params)
+        if self.fill_holes:
+            refine["fill_holes"] = True
         if refine:
             out["refine"] = refine
         return out
@@ -202,7 +208,11 @@ def read_chain_settings(path: str | os.PathLike) -> ChainSettings:
     params = refine.get("params", {})
     if not isinstance(params, Mapping):
         raise InputFileError(f"settings file {p}: [refine.params] must be a table.")
-    return ChainSettings(rig=rig, align=align, method=method, params=dict(params), rig_source=rig_source)
+    fill_holes = refine.get("fill_holes", False)
+    if not isinstance(fill_holes, bool):
+        raise InputFileError(f"settings file {p} [refine]: fill_holes must be true or false; got {fill_holes!r}.")
+    return ChainSettings(rig=rig, align=align, method=method, params=dict(params), rig_source=rig_source,
+                         fill_holes=fill_holes)
 
 
 def write_chain_settings(path: str | os.PathLike, settings: ChainSettings, *, overwrite: bool = False) -> Path:
