@@ -8,7 +8,8 @@
 - ``shift``       the thesis's horizontal shift alignment (spec step 3)
 - ``reproject``   calibrated reprojection of depth into the color camera
 - ``pointcloud``  metric depth, back-projection, projection, colored point clouds
-- ``chain``       the settings-driven chain: undistort + align a raw depth + color pair
+- ``chain``       the settings-driven chain: undistort + align a raw depth + color pair; unmeasured pixels
+- ``edges``       does a depth map line up with its color image? (silhouette vs color edges)
 
 Everything here is pure (arrays in, arrays out); files are read by :mod:`depthrefine.io`.
 """
