@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import inspect
 import json
 import sys
 from pathlib import Path
@@ -12,8 +11,9 @@ import numpy as np
 
 from .. import __version__, viz
 from ..evaluate import rmse
-from ..io import atomic_directory, load_capture, read_calibration, write_depth, write_ply, write_rgb, write_rig
-from ..methods.registry import refine
+from ..io import (atomic_directory, load_capture, read_calibration, write_depth, write_figure, write_ply, write_rgb,
+                  write_rig)
+from ..methods.registry import DEFAULT_METHOD, refine
 from ..rig.chain import AlignSettings, align_pair, keep_unmeasured
 from ..rig.edges import color_edges, depth_silhouette, edge_overlap
 from ..rig.pointcloud import depth_to_points
@@ -28,10 +28,6 @@ MUG_NEAR_MM, MUG_FAR_MM = 600.0, 1000.0
 MUG_DETAIL = (330, 650, 250, 700)
 
 
-def _default_method() -> str:
-    return inspect.signature(refine).parameters["method"].default
-
-
 def edges_picture(rgb: np.ndarray, depth: np.ndarray, *, near: float, far: float) -> np.ndarray:
     """The color image darkened, its Canny edges in green and the depth's near-object silhouette in red."""
     out = (viz.to_rgb8(rgb) * 0.6).astype(np.uint8)
@@ -43,11 +39,11 @@ def edges_picture(rgb: np.ndarray, depth: np.ndarray, *, near: float, far: float
 def _mug(tmp: Path) -> tuple[dict, list[str]]:
     capture = load_capture("mug")
     rig, _ = read_calibration(capture.calibration, depth_mode="NFOV_UNBINNED", color_resolution="720P")
-    method = _default_method()
+    method = DEFAULT_METHOD
     pair = align_pair(capture.depth, capture.rgb, rig, settings=AlignSettings(depth_units=capture.depth_units))
     update, close = progress_bar(f"demo mug: {method}", enabled=None)
     try:
-        refined = keep_unmeasured(refine(pair.depth_lr, pair.rgb_hr, progress=update), pair.depth_lr)
+        refined = keep_unmeasured(refine(pair.depth_lr, pair.rgb_hr, method=method, progress=update), pair.depth_lr)
     finally:
         close()
     aligned_fit = edge_overlap(pair.depth_lr, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
@@ -56,11 +52,11 @@ def _mug(tmp: Path) -> tuple[dict, list[str]]:
     fig = viz.comparison_figure(
         pair.rgb_hr,
         [("depth reprojected into the color camera\n(factory calibration)", pair.depth_lr),
-         (f"refined ({method}); unmeasured = black", refined)],
-        zoom=MUG_DETAIL, limits=limits,
+         (f"refined ({method})", refined)],
+        units="mm", zoom=MUG_DETAIL, limits=limits, ncols=3,
         title="Azure Kinect (NFOV unbinned 640x576 ToF, 720p color): the whole chain on one real capture",
     )
-    fig.savefig(tmp / "demo_figure.png")
+    write_figure(tmp / "demo_figure.png", fig)
     r0, r1, c0, c1 = MUG_DETAIL
     # The registration check: the reprojected depth's outline (red) on the color edges (green).
     write_rgb(tmp / "edges.png",
@@ -94,10 +90,10 @@ def _bookshelf(tmp: Path) -> tuple[dict, list[str]]:
     import cv2
 
     capture = load_capture("bookshelf")
-    method = _default_method()
+    method = DEFAULT_METHOD
     update, close = progress_bar(f"demo bookshelf: {method}", enabled=None)
     try:
-        refined = refine(capture.depth, capture.rgb, progress=update)
+        refined = refine(capture.depth, capture.rgb, method=method, progress=update)
     finally:
         close()
     nearest = refine(capture.depth, capture.rgb, method="nearest")
@@ -107,14 +103,17 @@ def _bookshelf(tmp: Path) -> tuple[dict, list[str]]:
     low = np.ascontiguousarray(capture.depth[1::4, 1::4])
     guide = cv2.resize(capture.rgb, (w, h), interpolation=cv2.INTER_AREA)
     scores = {name: round(rmse(refine(low, guide, method=name), real), 2) for name in ("nearest", "bilinear", method)}
+    limits = viz.depth_limits(capture.depth.astype(np.float32))
     fig = viz.comparison_figure(
-        capture.rgb, [("nearest (x7.5)", nearest), (f"refined ({method})", refined)],
-        zoom=viz.pick_detail(refined),
+        capture.rgb, [("input x7.5 (nearest)", nearest), (f"refined ({method})", refined)],
+        units="mm", zoom=viz.pick_detail(refined), limits=limits, ncols=3,
         title="iPhone LiDAR 256x192 depth refined to its 1920x1440 RGB frame (x7.5)",
     )
-    fig.savefig(tmp / "demo_figure.png")
+    write_figure(tmp / "demo_figure.png", fig)
     write_depth(tmp / "refined.png", refined, dtype=np.uint16)
-    write_rgb(tmp / "refined_blended.png", viz.blend(viz.colorize_depth(refined), capture.rgb))
+    write_figure(tmp / "refined_blended.png", viz.figure_grid(
+        [[viz.Panel(f"{method}: depth over the color image", refined, "blend", background=capture.rgb)]],
+        units="mm", limits=limits, panel_width=6.0))
     record = {"method": method, "ratio": 7.5,
               "self_benchmark": {"what": "depth subsampled x4 (64x48), refined to 256x192 with the RGB resized "
                                          "to 256x192, RMSE in mm against the real 256x192 depth",
