@@ -35,6 +35,7 @@ __all__ = [
     "rmse",
     "mae",
     "bad_pixel_share",
+    "flicker",
     "EDGE_THRESHOLD_LEVELS",
     "EDGE_RADIUS",
 ]
@@ -225,6 +226,43 @@ def bad_pixel_share(
     """
     err = _errors(*_check_pair(depth_pred, depth_gt, valid))
     return float(np.mean(np.abs(err) > threshold)) if err.size else float("nan")
+
+
+def flicker(depth_preds, depth_gts) -> float:
+    """Temporal flicker: mean absolute frame-to-frame change of the predictions where the truth did not change.
+
+    For each pair of consecutive frames, the pixels whose ground truth is
+    valid in both and equal are scored with ``|pred[t] - pred[t-1]|``; the
+    result is the mean over all scored pixels of all pairs (NaN if there are
+    none). 0 for a perfectly steady result; noise and cluster labels that
+    change from frame to frame raise it.
+
+    Parameters
+    ----------
+    depth_preds, depth_gts : sequences of (H, W) ndarray
+        Predictions and ground truths, one per frame, in order.
+
+    Examples
+    --------
+    >>> gts = [np.array([[5.0, 5.0]]), np.array([[5.0, 9.0]]), np.array([[5.0, 9.0]])]
+    >>> preds = [np.array([[5.0, 5.0]]), np.array([[6.0, 8.0]]), np.array([[6.0, 9.0]])]
+    >>> flicker(preds, gts)   # pair 1: |6-5| on the left pixel; pair 2: |6-6| and |9-8|
+    0.6666666666666666
+    """
+    preds, gts = list(depth_preds), list(depth_gts)
+    if len(preds) != len(gts):
+        raise ValueError(f"flicker needs one ground truth per prediction; got {len(preds)} and {len(gts)}.")
+    total, count = 0.0, 0
+    for t in range(1, len(preds)):
+        pred_now, gt_now, valid_now = _check_pair(preds[t], gts[t], None)
+        pred_prev, gt_prev, valid_prev = _check_pair(preds[t - 1], gts[t - 1], None)
+        if pred_now.shape != pred_prev.shape:
+            raise ValueError(f"frames {t - 1} and {t} have shapes {pred_prev.shape} and {pred_now.shape}; flicker "
+                             "needs one shape.")
+        steady = (valid_now & valid_prev & (gt_now == gt_prev) & np.isfinite(pred_now) & np.isfinite(pred_prev))
+        total += float(np.abs(pred_now[steady] - pred_prev[steady]).sum())
+        count += int(steady.sum())
+    return total / count if count else float("nan")
 
 
 def score(

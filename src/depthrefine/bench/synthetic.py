@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-__all__ = ["SyntheticScene", "make_scene", "make_two_planes", "PALETTE", "DEPTH_CONSTANT"]
+__all__ = ["SyntheticScene", "make_scene", "make_two_planes", "make_sequence", "PALETTE", "DEPTH_CONSTANT"]
 
 #: Flat object colors (RGB uint8), chosen far apart in a*b* (>= 34 units) so
 #: that they stay apart after the thesis's L* unification.
@@ -396,3 +396,79 @@ def _place_object(rng: np.random.Generator, shape: tuple[int, int], s: int, bloc
         if not (mask & blocked).any():
             return mask
     return None
+
+
+def make_sequence(
+    n_frames: int = 8,
+    shape_hr: tuple[int, int] = (96, 128),
+    scale: int = 4,
+    *,
+    n_objects: int = 2,
+    speed: float = 3.0,
+    noise_std: float | None = None,
+    color_noise_std: float = 6.0,
+    dtype: type | np.dtype = np.uint16,
+    seed: int = 0,
+) -> list[SyntheticScene]:
+    """A sequence from a static camera: a fixed scene and one disc moving across it.
+
+    The background (wall and ``n_objects`` objects) is :func:`make_scene`'s;
+    a disc of another :data:`PALETTE` color, nearer than everything (level
+    250), moves left to right by ``speed`` color pixels per frame along the
+    middle row. Each frame has fresh depth noise and color noise, so a
+    method's output changes from frame to frame even where the ground truth
+    does not: :func:`depthrefine.bench.metrics.flicker` measures that.
+
+    Parameters
+    ----------
+    n_frames : int
+        Number of frames (>= 1).
+    shape_hr, scale, n_objects, noise_std, dtype, seed
+        As for :func:`make_scene` (``noise_std`` default: its default).
+    speed : float
+        Disc motion in color pixels per frame.
+    color_noise_std : float
+        Gaussian noise on R, G, B (8-bit levels), new in every frame.
+
+    Returns
+    -------
+    list of SyntheticScene
+        One per frame; ``labels_hr`` marks the disc with ``n_objects + 1``.
+
+    Examples
+    --------
+    >>> frames = make_sequence(3, (64, 96), 4, seed=1)
+    >>> len(frames), frames[0].depth_lr.shape, frames[0].depth_lr.dtype.name
+    (3, (16, 24), 'uint16')
+    >>> bool((frames[0].depth_hr_gt != frames[2].depth_hr_gt).any())
+    True
+    """
+    if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or n_frames < 1:
+        raise ValueError(f"n_frames must be an integer >= 1; got {n_frames!r}.")
+    base = make_scene(shape_hr, scale, n_objects=n_objects, noise_std=0.0, dtype=dtype, seed=seed)
+    dtype = _check_dtype(dtype)
+    height, width, s = _check_grid(shape_hr, scale)
+    rng = np.random.default_rng([seed, 1])
+    used = {tuple(c) for c in base.rgb_hr.reshape(-1, 3)}
+    disc_color = next(c for c in PALETTE if tuple(c) not in used)
+    wall_colors = base.rgb_hr.astype(np.float64)
+    disc_depth = float(_levels_to_units(np.array([250.0]), dtype)[0])
+    radius = max(2 * s, min(height, width) // 5)
+    rows, cols = np.mgrid[0:height, 0:width]
+    noise_std = _DEFAULT_NOISE[dtype] if noise_std is None else float(noise_std)
+    frames = []
+    for t in range(int(n_frames)):
+        cx = radius + s + t * float(speed)
+        disc = (rows + 0.5 - height / 2) ** 2 + (cols + 0.5 - cx) ** 2 <= radius ** 2
+        labels = np.where(disc, n_objects + 1, base.labels_hr).astype(np.int16)
+        depth_hr_gt = np.where(disc, np.float32(disc_depth), base.depth_hr_gt).astype(np.float32)
+        rgb = np.where(disc[:, :, None], disc_color[None, None, :].astype(np.float64), wall_colors)
+        if color_noise_std > 0:
+            rgb = rgb + rng.normal(0.0, color_noise_std, rgb.shape)
+        rgb_hr = np.clip(np.floor(rgb + 0.5), 0, 255).astype(np.uint8)
+        sampled = depth_hr_gt[s // 2::s, s // 2::s].astype(np.float64)
+        measured = sampled + rng.normal(0.0, noise_std, sampled.shape) if noise_std > 0 else sampled
+        depth_lr = _to_dtype(measured, np.zeros(sampled.shape, bool), dtype)
+        frames.append(SyntheticScene(rgb_hr=rgb_hr, depth_hr_gt=depth_hr_gt, depth_lr=depth_lr, scale=s,
+                                     labels_hr=labels, depths=base.depths + (disc_depth,), units=base.units))
+    return frames

@@ -40,6 +40,7 @@ COMMAND_MODULES = [
     "run",
     "export_ply",
     "bench",
+    "batch",
 ]
 
 

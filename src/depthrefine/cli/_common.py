@@ -245,7 +245,7 @@ def params_dict(params: Any) -> dict[str, Any]:
     return dataclasses.asdict(params)
 
 
-def progress_bar(desc: str, *, enabled: bool | None = None) -> tuple[Callable[[int, int], None], Callable[[], None]]:
+def progress_bar(desc: str, *, enabled: bool | None = None, unit: str = "patch") -> tuple[Callable[[int, int], None], Callable[[], None]]:
     """A ``progress(done, total)`` callback drawing a tqdm bar on stderr, and a closer."""
     from tqdm import tqdm
 
@@ -255,7 +255,7 @@ def progress_bar(desc: str, *, enabled: bool | None = None) -> tuple[Callable[[i
     def update(done: int, total: int) -> None:
         bar = state.get("bar")
         if bar is None:
-            bar = state["bar"] = tqdm(total=total, desc=desc, unit="patch", disable=disable, leave=False)
+            bar = state["bar"] = tqdm(total=total, desc=desc, unit=unit, disable=disable, leave=False)
         bar.update(done - bar.n)
 
     def close() -> None:

@@ -21,7 +21,7 @@ from . import baselines, peers
 from .._validate import check_pixels
 from .scale import plan_scale
 from .thesis.params import RefineParams
-from .thesis.refine import refine_thesis
+from .thesis.refine import refine_thesis, refine_thesis_stateful
 
 __all__ = ["Method", "METHODS", "DEFAULT_METHOD", "register_method", "get_method", "refine"]
 
@@ -52,6 +52,13 @@ class Method:
     interpolating : bool
         Whether every output value lies within the range of the valid input
         depths (a convex combination of them, or clipped to their range).
+    refine_stateful : callable or None
+        Optional warm start for sequences: ``refine_stateful(depth_lr,
+        rgb_hr, *, params, state) -> (depth_hr, state)``; ``state=None`` for
+        the first frame (then the result must equal ``func``'s), the returned
+        state goes with the next frame. ``depthrefine batch --temporal`` and
+        :func:`depthrefine.batch.refine_many` (``temporal=True``) use it when
+        present; methods without it run frame by frame.
     """
 
     name: str
@@ -61,6 +68,7 @@ class Method:
     guided: bool = True
     deterministic: bool = True
     interpolating: bool = False
+    refine_stateful: Callable[..., tuple[np.ndarray, Any]] | None = None
 
     def default_params(self) -> Any:
         """The method's default parameters (``None`` if it has none)."""
@@ -80,6 +88,7 @@ def register_method(
     deterministic: bool = True,
     interpolating: bool = False,
     replace: bool = False,
+    refine_stateful: Callable[..., tuple[np.ndarray, Any]] | None = None,
 ) -> Method:
     """Add a method to :data:`METHODS` and return its entry.
 
@@ -90,7 +99,8 @@ def register_method(
     if name in METHODS and not replace:
         raise ValueError(f"a method named {name!r} is already registered; pass replace=True to replace it.")
     entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided,
-                   deterministic=deterministic, interpolating=interpolating)
+                   deterministic=deterministic, interpolating=interpolating,
+                   refine_stateful=refine_stateful)
     METHODS[name] = entry
     return entry
 
@@ -161,6 +171,13 @@ def refine(
     (144, 176)
     """
     entry = get_method(method)
+    check_call(entry, depth_lr, rgb_hr, params, max_pixels)
+    return entry.func(depth_lr, rgb_hr, params=params, progress=progress)
+
+
+def check_call(entry: Method, depth_lr: Any, rgb_hr: Any, params: Any, max_pixels: int | None = None) -> None:
+    """The checks :func:`refine` makes before it calls ``entry``'s function (size, shapes, parameter type)."""
+    method = entry.name
     if isinstance(rgb_hr, np.ndarray) and rgb_hr.ndim >= 2:
         check_pixels(rgb_hr.shape, max_pixels=max_pixels, name="rgb_hr")
         if isinstance(depth_lr, np.ndarray) and depth_lr.ndim == 2 and min(depth_lr.shape) > 0 < min(rgb_hr.shape[:2]):
@@ -173,10 +190,9 @@ def refine(
                 f"method {method!r} takes params of type {entry.params_type.__name__}; "
                 f"got {type(params).__name__}."
             )
-    return entry.func(depth_lr, rgb_hr, params=params, progress=progress)
 
 
-register_method("thesis", refine_thesis, params_type=RefineParams,
+register_method("thesis", refine_thesis, params_type=RefineParams, refine_stateful=refine_thesis_stateful,
                 summary="the thesis method: per-patch color k-means, histogram correction, "
                         "per-cluster interpolation (Chen 2014, ch. 4)", interpolating=True)
 register_method("nearest", baselines.upsample_nearest, summary="nearest-neighbour enlargement", guided=False,

@@ -17,7 +17,7 @@ import os
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 from scipy import ndimage
@@ -29,6 +29,7 @@ from ..scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
 from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
+    "refine_thesis_stateful",
     "Refinement",
     "refine_thesis",
     "refine_with_intermediates",
@@ -157,6 +158,42 @@ def refine_thesis(
     ((8, 8), dtype('float32'), [10.0, 10.0, 10.0, 10.0, 50.0, 50.0, 50.0, 50.0])
     """
     return _run(depth_lr, rgb_hr, params, progress, keep=False).depth_hr
+
+
+def refine_thesis_stateful(
+    depth_lr: np.ndarray,
+    rgb_hr: np.ndarray,
+    *,
+    params: RefineParams | None = None,
+    state: Any = None,
+    progress: Progress | None = None,
+) -> tuple[np.ndarray, Any]:
+    """:func:`refine_thesis` for a video: each patch's k-means starts from the previous frame's means.
+
+    With ``state=None`` (the first frame) the result is :func:`refine_thesis`'s,
+    bit for bit. The returned state holds each patch's cluster means; give it
+    with the next frame so that its k-means starts there instead of at the
+    default means: on a static or slowly moving camera, pixels keep their
+    clusters from frame to frame and the result does not flicker. A state
+    from a frame of another size or patch layout is ignored (a cold start).
+
+    Returns
+    -------
+    depth_hr : (H, W) float32 ndarray
+    state : object
+        Opaque; pass it with the next frame.
+
+    Examples
+    --------
+    >>> depth = np.array([[10, 10, 50, 50]] * 4, np.uint8)
+    >>> rgb = np.zeros((8, 8, 3), np.uint8); rgb[:, 4:] = 200
+    >>> out, state = refine_thesis_stateful(depth, rgb)
+    >>> out2, state = refine_thesis_stateful(depth, rgb, state=state)
+    >>> bool((out == refine_thesis(depth, rgb)).all()), bool((out2 == out).all())
+    (True, True)
+    """
+    result, means = _run(depth_lr, rgb_hr, params, progress, keep=False, warm=state)
+    return result.depth_hr, means
 
 
 def refine_with_intermediates(
@@ -310,7 +347,8 @@ def correct_cluster_depths(
 # ----------------------------------------------------------------------------
 
 
-def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
+def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
+    """Steps 2-8; with ``warm`` (``None`` or a previous state) also return the new state."""
     params = RefineParams() if params is None else params
     if not isinstance(params, RefineParams):
         raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
@@ -363,16 +401,24 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
     # Nearest valid depth anywhere, for patches without any valid sample.
     nearest_global = fill_invalid_nearest(depth)
 
-    def solve(rect: tuple[int, int, int, int]) -> _PatchResult:
-        return _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bin_width, n_bins,
-                            keep)
+    # Warm start: the previous frame's means, when it had the same patches.
+    stateful = warm is not False
+    previous = warm if stateful and isinstance(warm, _WarmState) and warm.patches == lr_patches \
+        and warm.params == params and len(warm.means) == len(lr_patches) else None
+
+    def solve(index: int) -> _PatchResult:
+        return _solve_patch(lr_patches[index], s, depth, lab, nearest_global, params, lo, level_size, bin_width,
+                            n_bins, keep, init=None if previous is None else previous.means[index],
+                            want_means=stateful)
 
     # Patches are independent: solve them in threads (NumPy and OpenCV release
     # the GIL), write them back in order, so the result does not depend on timing.
     workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
     pool = ThreadPoolExecutor(max_workers=workers) if workers > 1 and out.size >= _PARALLEL_MIN_PIXELS else None
     try:
-        solved = pool.map(solve, lr_patches) if pool is not None else map(solve, lr_patches)
+        indices = range(len(lr_patches))
+        solved = pool.map(solve, indices) if pool is not None else map(solve, indices)
+        means = []
         for index, ((r0, r1, c0, c1), res) in enumerate(zip(lr_patches, solved)):
             own = slice(r0 * s, r1 * s), slice(c0 * s, c1 * s)
             if owner is None:
@@ -392,6 +438,7 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
                 patch_index[own][mine] = index
                 for c in range(len(res.per_cluster)):
                     pieces[c][own][mine] = res.per_cluster[c][mine]
+            means.append(res.means)
             if progress is not None:
                 progress(index + 1, len(lr_patches))
     finally:
@@ -402,8 +449,9 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool) -> Refinement:
     hr_patches = [(r0 * s, r1 * s, c0 * s, c1 * s) for r0, r1, c0, c1 in lr_patches]
     if not keep:
         empty = np.empty((0,), dtype=np.float32)
-        return Refinement(depth_hr, step, hr_patches, empty, empty, empty, empty, labels_lr,
-                          empty, corrected_lr, empty, empty, level_size)
+        result = Refinement(depth_hr, step, hr_patches, empty, empty, empty, empty, labels_lr,
+                            empty, corrected_lr, empty, empty, level_size)
+        return (result, _WarmState(lr_patches, params, means)) if stateful else result
     return Refinement(
         depth_hr=depth_hr, scale=step, patches=hr_patches, rgb_filtered=filtered, lab_unified=lab_all,
         labels=labels_all, patch_index=patch_index, labels_lr=labels_lr,
@@ -421,10 +469,20 @@ class _PatchResult:
     labels: np.ndarray | None = None
     features: np.ndarray | None = None
     per_cluster: np.ndarray | None = None
+    means: np.ndarray | None = None  # (k, 3) cluster means in k-means features, for a warm start
+
+
+@dataclass(frozen=True)
+class _WarmState:
+    """What :func:`refine_thesis_stateful` carries from frame to frame."""
+
+    patches: list
+    params: RefineParams
+    means: list
 
 
 def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bin_width, n_bins,
-                 keep) -> _PatchResult:
+                 keep, init=None, want_means=False) -> _PatchResult:
     """Steps 5-7 for one patch (pure: reads the shared arrays, writes nothing shared)."""
     r0, r1, c0, c1 = rect
     # 4.3.2-4.3.3: unified L*, k-means.
@@ -432,9 +490,16 @@ def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bi
         lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
         iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
         white_bound=params.white_bound, max_lightness=params.max_lightness,
-        lightness_weight=params.lightness_weight, return_features=keep)
-    labels, features = clustered if keep else (clustered, None)
+        lightness_weight=params.lightness_weight, return_features=keep or want_means, init_means=init)
+    labels, features = clustered if keep or want_means else (clustered, None)
     k = int(labels.max()) + 1
+    means = None
+    if want_means:  # each cluster's mean (w L*, a*, b*): where the next frame's k-means starts
+        flat = labels.ravel()
+        counts = np.bincount(flat, minlength=k).astype(np.float64)
+        means = np.stack([np.bincount(flat, weights=features[..., d].ravel(), minlength=k) for d in range(3)], axis=1)
+        means = means / np.maximum(counts, 1)[:, None]
+        means[:, 0] *= params.lightness_weight
 
     # 4.4.1-4.4.2: spreading and classification: sample (i, j) sits at (i*s + s//2, j*s + s//2).
     lab_samples = labels[s // 2::s, s // 2::s]
@@ -460,8 +525,8 @@ def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bi
         fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
         rr, cc = np.nonzero(missing)
         result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
-    return _PatchResult(result, corrected, lab_samples, labels if keep else None, features,
-                        per_cluster if keep else None)
+    return _PatchResult(result, corrected, lab_samples, labels if keep else None, features if keep else None,
+                        per_cluster if keep else None, means)
 
 
 def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep):

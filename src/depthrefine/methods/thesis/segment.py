@@ -173,7 +173,8 @@ def initial_means(features: np.ndarray, n_clusters: int) -> np.ndarray:
 
 
 def kmeans(
-    features: np.ndarray, n_clusters: int = 4, iterations: int = 10, *, weights: np.ndarray | None = None
+    features: np.ndarray, n_clusters: int = 4, iterations: int = 10, *, weights: np.ndarray | None = None,
+    init_means: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Deterministic k-means (thesis 4.3.3, spec step 5.4).
 
@@ -194,6 +195,11 @@ def kmeans(
     weights : (N,) ndarray, optional
         Multiplicity of each point: k-means over a histogram of distinct
         features gives the same clusters as over every pixel.
+    init_means : (k0, D) ndarray, optional
+        Start from these means instead of :func:`initial_means` (a warm
+        start, e.g. the previous video frame's means: labels keep their
+        numbers from frame to frame). With ``k0 < n_clusters`` the missing
+        means are the :func:`initial_means` farthest from the given ones.
 
     Returns
     -------
@@ -219,7 +225,7 @@ def kmeans(
     wx = (w[:, None] * x).ravel()
     dim_index = np.tile(np.arange(dims), n)
     cols = np.ascontiguousarray(x.T)
-    means = initial_means(x, n_clusters)
+    means = initial_means(x, n_clusters) if init_means is None else _warm_means(init_means, x, n_clusters)
     labels = _assign(cols, means)
     for _ in range(iterations):
         k = len(means)
@@ -234,6 +240,21 @@ def kmeans(
         labels = remap[labels].astype(np.int32)
         means = means[used]
     return labels.astype(np.int32, copy=False), means
+
+
+def _warm_means(init_means: np.ndarray, x: np.ndarray, n_clusters: int) -> np.ndarray:
+    """``init_means`` checked, topped up to ``n_clusters`` with the farthest :func:`initial_means`."""
+    means = np.asarray(init_means, dtype=np.float64)
+    if means.ndim != 2 or means.shape[1] != x.shape[1] or not 1 <= len(means) <= n_clusters \
+            or not np.isfinite(means).all():
+        raise ValueError(f"init_means must be a finite (k, {x.shape[1]}) array with 1 <= k <= n_clusters "
+                         f"({n_clusters}); got shape {means.shape}.")
+    if len(means) < n_clusters:
+        extra = initial_means(x, n_clusters)
+        gap = np.square(extra[:, None, :] - means[None, :, :]).sum(axis=2).min(axis=1)
+        pick = np.sort(np.argsort(-gap, kind="stable")[:n_clusters - len(means)])
+        means = np.concatenate([means, extra[pick]])
+    return means
 
 
 def _assign(cols: np.ndarray, means: np.ndarray) -> np.ndarray:
@@ -264,6 +285,7 @@ def cluster_colors(
     max_lightness: float = 100.0,
     lightness_weight: float = 1.0,
     return_features: bool = False,
+    init_means: np.ndarray | None = None,
 ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Cluster one patch's colors (thesis 4.3.2-4.3.3) from its L*a*b* values.
 
@@ -279,6 +301,8 @@ def cluster_colors(
     ----------
     lab_patch : (M, N, 3) float ndarray
         CIE L*a*b* of the patch (:func:`rgb_to_lab`).
+    init_means : (k0, 3) ndarray, optional
+        Warm start of the k-means (:func:`kmeans`), in (w L*, a*, b*).
 
     Returns
     -------
@@ -329,7 +353,7 @@ def cluster_colors(
         ((bins // nb) % na + a0) * AB_STEP,
         (bins % nb + b0) * AB_STEP,
     ], axis=1).astype(np.float32)
-    bin_labels, _ = kmeans(feats, n_clusters, iterations, weights=weights)
+    bin_labels, _ = kmeans(feats, n_clusters, iterations, weights=weights, init_means=init_means)
     if inverse is None:
         lut = np.empty(space, dtype=np.int16)
         lut[bins] = bin_labels
