@@ -156,6 +156,7 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
     try:
         if scheduler:
             try:
+                _reachable(scheduler)
                 client = Client(scheduler, timeout="10s")
             except (OSError, TimeoutError) as exc:
                 raise OSError(f"cannot reach the Dask scheduler at {scheduler} ({' '.join(str(exc).split())}); "
@@ -169,6 +170,20 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
             yield client
     finally:
         quiet.setLevel(level)
+
+
+def _reachable(address: str) -> None:
+    """Fail at once (``OSError``) when nothing listens at a ``tcp://host:port`` address."""
+    import socket
+
+    from distributed.comm import parse_address, parse_host_port
+
+    scheme, location = parse_address(address)
+    if scheme != "tcp":
+        return
+    host, port = parse_host_port(location)
+    with socket.create_connection((host, port), timeout=5):
+        pass
 
 
 def run_frames(

@@ -176,7 +176,7 @@ def run(args: argparse.Namespace) -> int:
     ok = computed - len(failures)
     rate = f"{computed / elapsed:.2f} frames/s" if elapsed > 0 else "-"
     print(f"batch: {len(seq.frames)} frames: {ok} refined, {len(done_before)} already done, {len(failures)} failed "
-          f"in {elapsed:.1f} s ({rate}, {n_workers} workers) -> {outdir}", file=sys.stderr)
+          f"in {elapsed:.1f} s ({rate}, {n_workers} worker{'s' if n_workers != 1 else ''}) -> {outdir}", file=sys.stderr)
     for key, message, _ in failures:
         print(f"  failed {key}: {message}", file=sys.stderr)
     if any(not bad for _, _, bad in failures):
