@@ -200,6 +200,29 @@ def test_kmeans_ties_go_to_the_lower_index():
     assert labels.tolist() == [0, 0, 1]
 
 
+def test_kmeans_warm_start_keeps_the_previous_label_numbers():
+    pts = np.array([[0.0, 0.0], [0.0, 1.0], [10.0, 10.0], [10.0, 11.0]])
+    labels, means = kmeans(pts, 2)
+    assert labels.tolist() == [0, 0, 1, 1]
+    warm_labels, warm_means = kmeans(pts, 2, init_means=means[::-1])  # the previous frame had them the other way
+    assert warm_labels.tolist() == [1, 1, 0, 0]
+    assert np.array_equal(warm_means, means[::-1])
+
+
+def test_kmeans_warm_start_gives_way_when_the_number_of_colors_changed():
+    pts = np.array([[0.0, 0.0], [0.0, 1.0], [10.0, 10.0], [10.0, 11.0], [30.0, -20.0]])
+    cold = kmeans(pts, 3)
+    assert len(cold[1]) == 3
+    warm = kmeans(pts, 3, init_means=np.array([[10.0, 10.5], [0.0, 0.5]]))  # a color appeared
+    assert all(np.array_equal(a, b) for a, b in zip(warm, cold))
+
+
+@pytest.mark.parametrize("init", [np.zeros((3, 2)), np.zeros((2, 3)), np.zeros((0, 2)), np.array([[np.nan, 0.0]])])
+def test_kmeans_bad_init_means(init):
+    with pytest.raises(ValueError, match="init_means"):
+        kmeans(np.array([[0.0, 0.0], [1.0, 1.0]]), 2, init_means=init)
+
+
 @pytest.mark.parametrize(
     "x, k, iterations, error",
     [

@@ -196,10 +196,12 @@ def kmeans(
         Multiplicity of each point: k-means over a histogram of distinct
         features gives the same clusters as over every pixel.
     init_means : (k0, D) ndarray, optional
-        Start from these means instead of :func:`initial_means` (a warm
-        start, e.g. the previous video frame's means: labels keep their
-        numbers from frame to frame). With ``k0 < n_clusters`` the missing
-        means are the :func:`initial_means` farthest from the given ones.
+        A warm start, e.g. the previous video frame's means, so that pixels
+        keep their clusters (and labels their numbers) from frame to frame.
+        k-means first runs from :func:`initial_means` as usual; if that finds
+        ``k0`` clusters, it runs again from ``init_means`` and returns that
+        result; otherwise (a color appeared or vanished) the first result
+        stands.
 
     Returns
     -------
@@ -221,11 +223,24 @@ def kmeans(
     if x.ndim != 2 or x.shape[0] == 0:
         raise ValueError(f"features must be a non-empty (N, D) array; got shape {x.shape}.")
     w = np.ones(x.shape[0]) if weights is None else np.asarray(weights, dtype=np.float64)
+    labels, means = _lloyd(x, w, initial_means(x, n_clusters), iterations)
+    if init_means is not None:
+        warm = np.asarray(init_means, dtype=np.float64)
+        if warm.ndim != 2 or warm.shape[1] != x.shape[1] or not 1 <= len(warm) <= n_clusters \
+                or not np.isfinite(warm).all():
+            raise ValueError(f"init_means must be a finite (k, {x.shape[1]}) array with 1 <= k <= n_clusters "
+                             f"({n_clusters}); got shape {warm.shape}.")
+        if len(warm) == len(means):
+            labels, means = _lloyd(x, w, warm, iterations)
+    return labels, means
+
+
+def _lloyd(x: np.ndarray, w: np.ndarray, means: np.ndarray, iterations: int) -> tuple[np.ndarray, np.ndarray]:
+    """``iterations`` rounds of assignment and update from ``means``; empty clusters dropped, labels renumbered."""
     n, dims = x.shape
     wx = (w[:, None] * x).ravel()
     dim_index = np.tile(np.arange(dims), n)
     cols = np.ascontiguousarray(x.T)
-    means = initial_means(x, n_clusters) if init_means is None else _warm_means(init_means, x, n_clusters)
     labels = _assign(cols, means)
     for _ in range(iterations):
         k = len(means)
@@ -240,21 +255,6 @@ def kmeans(
         labels = remap[labels].astype(np.int32)
         means = means[used]
     return labels.astype(np.int32, copy=False), means
-
-
-def _warm_means(init_means: np.ndarray, x: np.ndarray, n_clusters: int) -> np.ndarray:
-    """``init_means`` checked, topped up to ``n_clusters`` with the farthest :func:`initial_means`."""
-    means = np.asarray(init_means, dtype=np.float64)
-    if means.ndim != 2 or means.shape[1] != x.shape[1] or not 1 <= len(means) <= n_clusters \
-            or not np.isfinite(means).all():
-        raise ValueError(f"init_means must be a finite (k, {x.shape[1]}) array with 1 <= k <= n_clusters "
-                         f"({n_clusters}); got shape {means.shape}.")
-    if len(means) < n_clusters:
-        extra = initial_means(x, n_clusters)
-        gap = np.square(extra[:, None, :] - means[None, :, :]).sum(axis=2).min(axis=1)
-        pick = np.sort(np.argsort(-gap, kind="stable")[:n_clusters - len(means)])
-        means = np.concatenate([means, extra[pick]])
-    return means
 
 
 def _assign(cols: np.ndarray, means: np.ndarray) -> np.ndarray:
