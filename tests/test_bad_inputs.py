@@ -820,6 +820,27 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
     "export-ply: output not PLY": lambda ws: Case(
         ["export-ply", str(ws.depth), str(ws.color), "-o", str(ws.out / "cloud.txt"), "--rig",
          str(_json(ws, "rig.json", _RIG)), "--inverse-depth-scale", "255"], ["cloud.txt", "unknown format"]),
+    # batch (more in test_batch.py: bags, unpaired and unreadable frames)
+    "batch: input missing": lambda ws: Case(["batch", str(ws.inputs / "seq"), "-o", str(ws.root / "b")],
+                                            ["seq", "does not exist"]),
+    "batch: folder without depth/": lambda ws: Case(["batch", str(ws.inputs), "-o", str(ws.root / "b")],
+                                                    [str(ws.inputs), "has no depth/ subfolder"]),
+    "batch: manifest without a color column": lambda ws: Case(
+        ["batch", str(ws.file("list.csv", "depth\ndepth.png\n")), "-o", str(ws.root / "b")],
+        ["list.csv", "depth and color"]),
+    "batch: output inside the input": lambda ws: Case(
+        ["batch", str(ws.file("list.csv", "depth,color\ndepth.png,color.png\n")), "-o", str(ws.inputs / "b")],
+        ["is inside the input", "outside"]),
+    "batch: output folder of something else": lambda ws: Case(
+        ["batch", str(ws.file("list.csv", "depth,color\ndepth.png,color.png\n")), "-o", str(ws.out)],
+        [str(ws.out), "holds no batch.json"]),
+    "batch: topics for a folder": lambda ws: Case(
+        ["batch", str(ws.file("list.csv", "depth,color\ndepth.png,color.png\n")), "-o", str(ws.root / "b"),
+         "--depth-topic", "/d"], ["list.csv", "not a ROS bag", "--depth-topic"]),
+    "batch: chunk without temporal": lambda ws: Case(
+        ["batch", str(ws.inputs), "-o", str(ws.root / "b"), "--chunk", "4"], ["--chunk", "--temporal"]),
+    "batch: max-dt not a duration": lambda ws: Case(
+        ["batch", str(ws.inputs), "-o", str(ws.root / "b"), "--max-dt", "soon"], ["--max-dt", "20ms"]),
     # bench
     "bench: data folder missing": lambda ws: Case(["bench", "--data", str(ws.inputs / "nodata")], ["--data", "nodata"]),
     "bench: data folder empty": lambda ws: (
