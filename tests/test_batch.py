@@ -485,3 +485,19 @@ def test_batch_does_not_load_dask_or_rosbags_at_start_up():
             "print(sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed', 'rosbags')))")
     out = subprocess.run([sys.executable, "-c", code], env=_env(), capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_a_scheduler_without_workers_is_one_line(frames, tmp_path, capsys, monkeypatch):
+    import logging
+
+    from distributed import LocalCluster
+
+    import depthrefine.batch
+
+    monkeypatch.setattr(depthrefine.batch, "_WORKER_WAIT", 1)
+    src = write_folder(tmp_path / "seq", frames[:1])
+    with LocalCluster(n_workers=0, processes=False, protocol="tcp://", host="127.0.0.1", dashboard_address=":0",
+                      silence_logs=logging.ERROR) as empty:
+        assert main(["batch", str(src), "-o", str(tmp_path / "out"), "--scheduler", empty.scheduler_address]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "has no workers" in err and "dask worker" in err

@@ -16,6 +16,8 @@ Subpackages, one per domain (the README's "Architecture" section draws the flow)
 - ``io``        every file format we read and write (the only module that touches files,
                 with ``cli``)
 - ``cli``       the ``depthrefine`` command, one module per subcommand
+- ``batch``     many frames on Dask distributed (one machine or a cluster):
+                :func:`batch.refine_many`, and the scheduling of ``depthrefine batch``
 - ``viz``       pictures: depth figures with a colorbar (demo, show, report), colorized depth, labels
 - ``evaluate``  the public name of the metrics (``bench.metrics``)
 """

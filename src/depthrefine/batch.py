@@ -44,6 +44,9 @@ DEFAULT_CHUNK = 32
 
 Loader = Callable[[], tuple[np.ndarray, np.ndarray]]
 
+#: Seconds to wait for a first worker of a remote cluster.
+_WORKER_WAIT = 30
+
 
 @dataclass
 class FrameResult:
@@ -94,7 +97,10 @@ def refine_many(
         As for :func:`depthrefine.refine`.
     client : dask.distributed.Client, optional
         Where to run. Default: a ``LocalCluster`` of ``workers`` processes
-        (default: the number of cores), closed at the end.
+        (default: the number of cores), started for this call (a few
+        seconds) and closed at the end; as its workers are new processes, a
+        script that calls this must do so under ``if __name__ ==
+        "__main__":``. Pass a client to reuse one cluster for many calls.
     temporal : bool
         Warm-start each frame from the previous one within chunks of
         ``chunk`` frames (see the module's notes).
@@ -162,6 +168,11 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
                 raise OSError(f"cannot reach the Dask scheduler at {scheduler} ({' '.join(str(exc).split())}); "
                               "start one with `dask scheduler` and workers with `dask worker ADDRESS`.") from None
             with client:
+                try:
+                    client.wait_for_workers(1, timeout=_WORKER_WAIT)
+                except TimeoutError:
+                    raise OSError(f"the Dask scheduler at {scheduler} has no workers (waited {_WORKER_WAIT} s); "
+                                  f"start some with `dask worker {scheduler}`.") from None
                 yield client
             return
         n = workers or os.cpu_count() or 1
