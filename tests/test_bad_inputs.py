@@ -839,6 +839,9 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
          "--depth-topic", "/d"], ["list.csv", "not a ROS bag", "--depth-topic"]),
     "batch: chunk without temporal": lambda ws: Case(
         ["batch", str(ws.inputs), "-o", str(ws.root / "b"), "--chunk", "4"], ["--chunk", "--temporal"]),
+    "batch: workers with a scheduler": lambda ws: Case(
+        ["batch", str(ws.inputs), "-o", str(ws.root / "b"), "--workers", "2", "--scheduler", "tcp://127.0.0.1:9"],
+        ["--workers", "drop --workers"]),
     "batch: max-dt not a duration": lambda ws: Case(
         ["batch", str(ws.inputs), "-o", str(ws.root / "b"), "--max-dt", "soon"], ["--max-dt", "20ms"]),
     # bench

@@ -35,8 +35,8 @@ __all__ = [
 ]
 
 
-def add_output(parser: argparse.ArgumentParser, *, help: str) -> None:
-    parser.add_argument("-o", "--output", required=True, metavar="OUT", help=help)
+def add_output(parser: argparse.ArgumentParser, *, help: str, metavar: str = "OUT") -> None:
+    parser.add_argument("-o", "--output", required=True, metavar=metavar, help=help)
 
 
 def add_overwrite(parser: argparse.ArgumentParser) -> None:

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..io import InputFileError, atomic_write
+from ..io import InputFileError, atomic_write, write_depth
 from ..io._sequences import DEFAULT_MAX_DT, open_sequence
 from ..methods.registry import get_method
 from ._common import add_depth_options, add_output, add_overwrite, add_params_options, build_params, params_dict, \
@@ -37,7 +37,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         ),
     )
     p.add_argument("input", metavar="INPUT", help="folder with depth/ and color/, CSV manifest, or ROS bag")
-    add_output(p, help="output folder (created; it may not lie inside INPUT)")
+    add_output(p, help="output folder (created; it may not lie inside INPUT)", metavar="OUTDIR")
     add_params_options(p)
     p.add_argument("--workers", type=parse_count, metavar="N",
                    help="worker processes of the local cluster (default: the number of cores)")
@@ -69,10 +69,12 @@ def parse_duration(text: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ..batch import DEFAULT_CHUNK, local_client, needed_keys, run_frames
-    from ..io import write_depth
 
     if args.chunk is not None and not args.temporal:
         raise ValueError("--chunk applies to --temporal only; add --temporal or drop --chunk.")
+    if args.workers is not None and args.scheduler:
+        raise ValueError("--workers sets the size of the local cluster; with --scheduler the cluster's own workers "
+                         "run the frames: drop --workers.")
     chunk = args.chunk or DEFAULT_CHUNK
     params = build_params(args)  # a bad parameter fails before anything is read
     entry = get_method(args.method)
