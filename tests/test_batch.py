@@ -223,7 +223,7 @@ SLOW_RUNNER = textwrap.dedent("""
     from depthrefine.methods.thesis.refine import refine_thesis
 
     def slow_thesis(depth_lr, rgb_hr, *, params=None, progress=None):
-        time.sleep(0.25)  # long enough to be killed midway
+        time.sleep(0.2)  # long enough to be killed midway
         return refine_thesis(depth_lr, rgb_hr, params=params, progress=progress)
 
     register_method("slow_thesis", slow_thesis, params_type=RefineParams)
@@ -232,7 +232,7 @@ SLOW_RUNNER = textwrap.dedent("""
 
 
 def test_a_run_killed_midway_resumes_and_every_output_matches_refine(cluster, tmp_path):
-    seq = make_sequence(16, (32, 48), 4, seed=9)
+    seq = make_sequence(12, (32, 48), 4, seed=9)
     src = write_folder(tmp_path / "seq", seq)
     out = tmp_path / "out"
     runner = tmp_path / "runner.py"
