@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .methods.registry import Method, check_call, get_method
+from .methods.registry import DEFAULT_METHOD, Method, check_call, get_method
 
 __all__ = ["refine_many", "FrameResult", "run_frames", "local_client", "DEFAULT_CHUNK"]
 
@@ -79,7 +79,7 @@ class FrameResult:
 def refine_many(
     pairs: Mapping[Hashable, tuple[np.ndarray, np.ndarray]] | Iterable[tuple[Hashable, np.ndarray, np.ndarray]],
     *,
-    method: str = "thesis",
+    method: str = DEFAULT_METHOD,
     params: Any = None,
     client: Any = None,
     temporal: bool = False,
