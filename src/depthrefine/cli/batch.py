@@ -12,8 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..io import InputFileError, atomic_write, write_depth
-from ..io._sequences import DEFAULT_MAX_DT, open_sequence
+from ..io import InputFileError, atomic_write, open_sequence, write_depth
+from ..io._sequences import DEFAULT_MAX_DT
 from ..methods.registry import get_method
 from ._common import add_depth_options, add_output, add_overwrite, add_params_options, build_params, params_dict, \
     parse_count, progress_bar

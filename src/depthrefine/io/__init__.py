@@ -15,10 +15,14 @@ from ._board import PAPER_SIZES_MM, write_board_pdf, write_board_png
 from ._calibration import read_calibration
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SCENES, RealCapture, SampleScene, load_capture, load_sample, sample_folder
+from ._sequences import Frame, Sequence, open_sequence
 from ._datasets import (DATASET_READERS, TRIPLET_FOLDERS, DatasetScene, dataset_folder, read_dataset,
                         read_rgbd_pairs, read_scene_folders, read_triplets)
 
 __all__ = [
+    "Frame",
+    "Sequence",
+    "open_sequence",
     "InputFileError",
     "atomic_directory",
     "atomic_write",
