@@ -97,7 +97,8 @@ def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "-
                        method_help: str | None = None) -> None:
     """The refinement method (``method_flag``, dest ``method``), --patches / --patch-file, --clusters, --params."""
     parser.add_argument(method_flag, dest="method", default=DEFAULT_METHOD, choices=sorted(METHODS),
-                        help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD})")
+                        help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD}, guided back-projection; "
+                             "thesis: the thesis method as specified)")
     grid = parser.add_mutually_exclusive_group()
     grid.add_argument("--patches", type=parse_grid, metavar="COLSxROWS",
                       help="automatic patch grid: COLS patches across, ROWS down, columns first as in --board "
