@@ -15,8 +15,8 @@ from ._board import PAPER_SIZES_MM, write_board_pdf, write_board_png
 from ._calibration import read_calibration
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SCENES, RealCapture, SampleScene, load_capture, load_sample, sample_folder
-from ._datasets import (DATASET_READERS, TRIPLET_FOLDERS, DatasetScene, dataset_folder, read_dataset,
-                        read_rgbd_pairs, read_scene_folders, read_triplets)
+from ._datasets import (DATASET_READERS, REAL_TOF_CAPTURES, TRIPLET_FOLDERS, DatasetScene, dataset_folder,
+                        read_dataset, read_real_tof, read_rgbd_pairs, read_scene_folders, read_triplets)
 
 __all__ = [
     "InputFileError",
@@ -58,6 +58,8 @@ __all__ = [
     "load_capture",
     "DATASET_READERS",
     "DatasetScene",
+    "REAL_TOF_CAPTURES",
+    "read_real_tof",
     "dataset_folder",
     "read_dataset",
     "read_scene_folders",

@@ -64,7 +64,7 @@ from .._fill import fill_invalid_nearest
 from .._validate import as_depth, check_int, check_number, check_rgb
 from .peers import _guide8
 
-__all__ = ["GbpParams", "upsample_gbp", "estimate_noise", "guide_trust"]
+__all__ = ["GbpParams", "upsample_gbp", "estimate_noise", "guide_trust", "block_mean_valid"]
 
 Progress = Callable[[int, int], None]
 
@@ -219,8 +219,17 @@ def _resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np
     return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
 
 
-def _block_mean_valid(depth: np.ndarray, factor: int) -> np.ndarray:
-    """Mean of the valid (finite) pixels of each ``factor x factor`` block; NaN where none is (crops)."""
+def block_mean_valid(depth: np.ndarray, factor: int) -> np.ndarray:
+    """Mean of the valid (finite) pixels of each ``factor x factor`` block; NaN where none is.
+
+    Rows and columns beyond a multiple of ``factor`` are dropped. No invalid
+    pixel is averaged in: a block's mean is over its valid pixels only.
+
+    Examples
+    --------
+    >>> block_mean_valid(np.array([[1, np.nan, 5, 5], [3, np.nan, 5, 5]], np.float32), 2).tolist()
+    [[2.0, 5.0]]
+    """
     h, w = depth.shape[0] // factor, depth.shape[1] // factor
     x = depth[: h * factor, : w * factor]
     valid = np.isfinite(x)
@@ -308,7 +317,7 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     p = GbpParams() if params is None else params
     h, w = depth.shape
     trust = np.ones((h, w), np.float32)
-    small = _block_mean_valid(depth, 2)
+    small = block_mean_valid(depth, 2)
     if min(small.shape) < 4 or not np.isfinite(small).any():
         return trust
     hc, wc = small.shape[0] * 2, small.shape[1] * 2
