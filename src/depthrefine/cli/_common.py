@@ -210,6 +210,12 @@ def build_params(args: argparse.Namespace, *, method: str | None = None,
     everywhere.
     """
     entry = get_method(args.method if method is None else method)
+    thesis_options = [flag for flag, value in (("--patches", args.patches), ("--patch-file", args.patch_file),
+                                               ("--clusters", args.clusters)) if value is not None]
+    if thesis_options and entry.params_type is not None and "patches" not in {
+            f.name for f in dataclasses.fields(entry.params_type)}:
+        raise ValueError(f"{' and '.join(thesis_options)} set the thesis method's patches and clusters; "
+                         f"the method is {entry.name!r}: add --method thesis.")
     overrides: dict[str, Any] = dict(base or {})
     if args.params:
         overrides.update(read_mapping(args.params, what="parameter"))

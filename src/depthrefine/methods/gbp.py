@@ -144,19 +144,24 @@ class GbpParams:
     flat_sigma_color: float = 4.0
     edge_low: float = 6.0
     edge_width: float = 4.0
+    flat_noise: float = 2.0
     trust: bool = True
     trust_radius: int = 4
     hole_margin: int = 2
     trust_prior: float = 1.0
+    trust_floor: float = 0.1
 
     def __post_init__(self) -> None:
         check_int("iterations", self.iterations, minimum=1)
         check_int("trust_radius", self.trust_radius, minimum=1)
         check_int("hole_margin", self.hole_margin, minimum=0)
-        for name in ("lambda_lr", "sigma_color", "noise_ref", "flat_lambda_lr", "flat_sigma_color", "edge_width"):
+        for name in ("lambda_lr", "sigma_color", "noise_ref", "flat_lambda_lr", "flat_sigma_color", "edge_width",
+                     "flat_noise"):
             check_number(name, getattr(self, name), positive=True)
         for name in ("edge_low", "trust_prior"):
             check_number(name, getattr(self, name), nonnegative=True)
+        if not 0 <= check_number("trust_floor", self.trust_floor) < 1:
+            raise ValueError(f"trust_floor must be in [0, 1); got {self.trust_floor}.")
         if not isinstance(self.trust, (bool, np.bool_)):
             raise TypeError(f"trust must be True or False; got {self.trust!r}.")
 
@@ -240,6 +245,22 @@ def block_mean_valid(depth: np.ndarray, factor: int) -> np.ndarray:
     return out
 
 
+def _span(filled: np.ndarray, valid: np.ndarray) -> float:
+    """The depth range the noise is measured against: 1st to 99th percentile of the valid pixels."""
+    low, high = np.percentile(filled[valid], [1, 99])
+    return float(high - low) if high > low else max(abs(float(filled.max())), 1.0)
+
+
+def _noise_levels(filled: np.ndarray, valid: np.ndarray) -> float:
+    """The input's noise in 8-bit levels of its own depth range (unit-free)."""
+    return 255.0 * estimate_noise(filled, valid) / _span(filled, valid)
+
+
+def _noise_share(sigma_levels: float, p: GbpParams) -> float:
+    """0 for a noise-free input, rising to 1 at ``flat_noise`` levels of noise."""
+    return min(1.0, sigma_levels / p.flat_noise)
+
+
 def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
                      progress: Progress | None = None) -> np.ndarray:
     """Steps 1-3: back-projected, edge-aware detail blended with the flat-area solve.
@@ -256,8 +277,7 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
     lo, hi = float(filled.min()), float(filled.max())
     (h, w), (H, W) = depth.shape, guide.shape[:2]
     s = 0.5 * (H / h + W / w)
-    low, high = np.percentile(filled[valid], [1, 99])
-    span = float(high - low) if high > low else max(abs(hi), 1.0)
+    span = _span(filled, valid)
     sigma = estimate_noise(filled, valid)
     sigma_levels = 255.0 * sigma / span
 
@@ -277,6 +297,8 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
     local_range = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel)
     edge = np.clip((local_range - p.edge_low * sigma) / (p.edge_width * sigma + 1e-6 * span), 0.0, 1.0)
     edge = cv2.dilate(edge.astype(np.float32), kernel)
+    # a noise-free input has nothing to average away: the flat solve's share fades out below flat_noise
+    edge = 1.0 - (1.0 - edge) * _noise_share(sigma_levels, p)
     edge = _resize(edge, (H, W), cv2.INTER_LINEAR)
     # x <- edge * x + (1 - edge) * flat, in place
     x -= flat
@@ -332,7 +354,7 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     num = cv2.boxFilter(explained * detail, -1, size, borderType=cv2.BORDER_REFLECT)
     den = cv2.boxFilter(detail * detail, -1, size, borderType=cv2.BORDER_REFLECT)
     span = float(np.nanmax(depth) - np.nanmin(depth))
-    prior = p.trust_prior * float(den.mean()) + 1e-10 * span * span + 1e-30
+    prior = (p.trust_prior * span / 255.0) ** 2 + 1e-30
     trust[:hc, :wc] = np.clip((num + prior) / (den + prior), 0.0, 1.0)
     trust[hc:, :] = trust[hc - 1:hc, :]
     trust[:, wc:] = trust[:, wc - 1:wc]
@@ -384,9 +406,19 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     (h, w), (H, W) = depth.shape, guide.shape[:2]
     result = _guided_estimate(depth, guide, p, progress)
     if p.trust:
-        trust = _resize(guide_trust(depth, guide, p), (H, W), cv2.INTER_LINEAR)
-        # result <- base + trust * (result - base), base: bicubic of the result's own reduction
-        base = _resize(_resize(result, (h, w), cv2.INTER_AREA), (H, W), cv2.INTER_CUBIC)
+        trust = guide_trust(depth, guide, p)
+        if p.trust_floor > 0:
+            trust = np.clip((trust - p.trust_floor) / (1.0 - p.trust_floor), 0.0, 1.0)
+        trust = _resize(trust, (H, W), cv2.INTER_LINEAR)
+        # the fallback: bicubic enlargement of the result's own reduction, moved towards the input itself as
+        # far as the input is noise-free (there is nothing to average away then)
+        filled = fill_invalid_nearest(depth)
+        valid = np.isfinite(depth)
+        reduced = _resize(result, (h, w), cv2.INTER_AREA)
+        share = _noise_share(_noise_levels(filled, valid), p)
+        reduced = np.where(valid, reduced + (1.0 - share) * (filled - reduced), reduced).astype(np.float32)
+        base = _resize(reduced, (H, W), cv2.INTER_CUBIC)
+        # result <- base + trust * (result - base), in place
         result -= base
         result *= trust
         result += base

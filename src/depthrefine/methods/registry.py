@@ -173,9 +173,11 @@ def refine(
         if entry.params_type is None:
             raise TypeError(f"method {method!r} takes no parameters; pass params=None.")
         if not isinstance(params, entry.params_type):
+            owner = [m.name for m in METHODS.values() if m.params_type is not None and isinstance(params, m.params_type)]
+            hint = f" {type(params).__name__} are the parameters of method={owner[0]!r}; pass it." if owner else ""
             raise TypeError(
                 f"method {method!r} takes params of type {entry.params_type.__name__}; "
-                f"got {type(params).__name__}."
+                f"got {type(params).__name__}.{hint}"
             )
     return entry.func(depth_lr, rgb_hr, params=params, progress=progress)
 
