@@ -23,7 +23,8 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    3x3 range is below ``edge_low * sigma``), a much stronger smoother of the
    bilinear enlargement takes over, blended in over ``edge_width * sigma``:
    noise is averaged over whole color segments there, while depth edges keep
-   the back-projected detail.
+   the back-projected detail. On a noise-free input there is nothing to
+   average away, so this share fades out below ``flat_noise`` levels.
 4. **Guide trust (do no harm).** Real guides carry texture that is not depth.
    The method checks the guide against the input one octave down: the input
    is reduced x2 (mean of the valid pixels), steps 1-3 are run on it with the
@@ -31,9 +32,12 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    ``2 * trust_radius + 1`` input pixels a least-squares fit says how much of
    the guided detail (the result minus the bicubic enlargement of its own
    reduction) agrees with the withheld input, in [0, 1], with a prior towards
-   trust where the detail is weak. The full-resolution result keeps that
-   share of its guided detail and falls back to plain bicubic interpolation
-   of its own reduction elsewhere.
+   trust where the detail is weaker than ``trust_prior`` levels, no trust
+   next to missing input pixels, and shares below ``trust_floor`` counted as
+   none. The full-resolution result keeps that share of its guided detail
+   and falls back to plain bicubic interpolation elsewhere: of the input
+   itself when it is noise-free, of the result's own (denoised) reduction
+   as the noise grows to ``flat_noise`` levels.
 
 Invalid input pixels (0, NaN, inf, negative) are filled from the nearest
 valid pixel before any interpolation, as the other methods do, and no
@@ -81,9 +85,9 @@ class GbpParams:
     Attributes
     ----------
     iterations : int
-        Back-projection rounds (6). The tuning-scene mean RMSE went
-        2.66 / 2.63 / 2.61 for 3 / 4 / 6 rounds; each round costs one
-        smoother pass (about 30-60 ms at 1.5 Mpx).
+        Back-projection rounds (6). In a first version of this method the
+        tuning-scene mean RMSE went 2.66 / 2.63 / 2.61 for 3 / 4 / 6 rounds;
+        each round costs one smoother pass (30-60 ms at 1.5 Mpx here).
     lambda_lr : float
         Smoothness of the detail solve on a noise-free input, per squared
         low-resolution pixel (0.03). On the clean tuning scenes 0.03 to 0.12
@@ -92,8 +96,9 @@ class GbpParams:
         ``lu`` is not a clean hold-out for this value (``docs/bench.md``).
         Stronger smoothing rounds the depth edges.
     sigma_color : float
-        Color sensitivity of the detail solve (4). 8 lost detail at every
-        scale; 2 let color texture through on the noisy scenes.
+        Color sensitivity of the detail solve (4). In the first prototype, 8
+        lost detail at every scale (tuning mean 3.98 against 3.18); 2 was
+        worse than 3 and 4 on the noisy scenes.
     noise_ref : float
         The noise (8-bit levels of the depth range) at which the detail
         solve's smoothing doubles; it grows with ``(sigma / noise_ref)**2``,
@@ -106,14 +111,22 @@ class GbpParams:
         oversmoothing (Park x4 / x16: 2.17 / 3.93 against 2.30 / 3.94 with
         ``8 * s**2``).
     flat_sigma_color : float
-        Color sensitivity of the flat-area solve (4).
+        Color sensitivity of the flat-area solve (4; 3 gave a tuning mean of
+        2.618 against 2.604).
     edge_low : float
         A 3x3 input range below ``edge_low * sigma`` counts as flat (6): with
         Gaussian noise, the range of 9 samples is about 3 sigma, so only
-        real depth steps pass 6 sigma. 2 and 4 kept more noise on Park.
+        real depth steps pass 6 sigma. 2 and 4 kept more noise on Park
+        (Park and ToF tuning mean 3.19 / 3.04 / 2.97 for 2 / 4 / 6).
     edge_width : float
         The flat / edge blend ramps over ``edge_width * sigma`` above
-        ``edge_low * sigma`` (4).
+        ``edge_low * sigma`` (4; 2 gave 2.97, 4 gave 2.67 on the tuning mean).
+    flat_noise : float
+        Noise (levels of the depth range) below which the flat-area solve
+        and the denoised fallback fade out (2). On a noise-free step the
+        flat solve spread the mixed edge pixel over the whole flat side
+        (42.5 instead of 40); the tuning mean moved 2.640 / 2.639 / 2.637
+        for 0.5 / 1 / 2.
     trust : bool
         Measure how far the guide can be trusted, per region, and fall back
         towards plain interpolation where it cannot (True). It made the
@@ -129,11 +142,17 @@ class GbpParams:
         x4 went 21.5 / 20.8 / 20.3 mm for 0 / 1 / 2, bicubic 20.8; on the
         simulated ToF tuning scenes (dropouts on dark surfaces) it cost 1-3 %.
     trust_prior : float
-        Weight of the prior "trust the guide" in each region's fit, as a
-        share of the image's mean guided-detail energy (1). Without it the
-        fit is noisy where the detail is weak, which cost 8 % at Middlebury
-        x16 (3.27 against 3.56 on the tuning scenes); the real-ToF scores
-        barely moved.
+        The prior "trust the guide" of each region's fit, as a guided detail
+        of this many levels of the depth range (1): where the detail is much
+        weaker the fit is noise and the guide is trusted. A prior relative to
+        the image's own mean detail (tried first) kept the trust near 0.5 on
+        a uniformly textured guide (checkerboard over a smooth surface: RMSE
+        0.67 against bicubic 0.16); in levels it falls to 0.1 there (0.17).
+        0.5 / 1 / 2 levels gave the same tuning mean within 0.001.
+    trust_floor : float
+        Trust shares below this count as none and the rest is stretched to
+        [0, 1] (0.1): a textured guide leaves a small spurious trust
+        everywhere. 0.2 cost 0.6 % on the tuning mean and 5 % on the Kinect.
     """
 
     iterations: int = 6
@@ -316,9 +335,10 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     share ``a`` of its guided detail ``g - b`` (``b``: bicubic enlargement of
     ``g`` reduced x2) that best explains the withheld input ``y`` is fitted
     by least squares, ``a = (sum (y - b)(g - b) + e) / (sum (g - b)**2 + e)``
-    on valid pixels, with the prior ``e = trust_prior * mean((g - b)**2)``
-    per pixel, clipped to [0, 1], set to 0 within ``hole_margin`` pixels of
-    a missing input pixel, and smoothed over the same window.
+    on valid pixels, with the prior ``e = (trust_prior * range / 255)**2``
+    per pixel (``range``: the input's 1st to 99th percentile), clipped to
+    [0, 1], set to 0 within ``hole_margin`` pixels of a missing input pixel,
+    and smoothed over the same window.
 
     Parameters
     ----------
