@@ -44,8 +44,10 @@ valid pixel before any interpolation, as the other methods do, and no
 invalid value is ever averaged in. The output is clipped to the input's
 valid range and is deterministic (bit-identical for the same input).
 
-Parameters were chosen on the benchmark's tuning scenes only (Park's Dolls
-and Laundry, four scenes of the 30-image Middlebury set; ``docs/bench.md``).
+Parameters were chosen on the benchmark's tuning scenes (Park's Dolls and
+Laundry, four scenes of the 30-image Middlebury set; ``docs/bench.md``), with
+two exceptions said on their fields: ``lambda_lr`` was lowered after seeing
+the ``lu`` scenes, and ``hole_margin`` was chosen on the real Kinect capture.
 
 References
 ----------
