@@ -112,8 +112,10 @@ class Workspace:
         return path
 
     def refine(self, depth=None, color=None, *extra: str, out=None) -> list[str]:
+        """``refine`` argv; the thesis method unless ``extra`` names one (its options are the ones checked)."""
+        method = [] if "--method" in extra else ["--method", "thesis"]
         return ["refine", str(depth or self.depth), str(color or self.color), "-o", str(out or self.result),
-                *map(str, extra)]
+                *method, *map(str, extra)]
 
 
 @dataclass
@@ -195,7 +197,7 @@ def _no_valid(ws: Workspace, name: str, data: np.ndarray, *extra: str) -> Case:
         arr = np.where(arr == np.iinfo(arr.dtype).max, 0, arr).astype(arr.dtype)
     rgb = _color_u8()
     return Case(ws.refine(path, None, *extra), [str(path), "has no valid pixel", "Check the depth file"],
-                lib=lambda: depthrefine.refine(arr, rgb), lib_subject=("depth_lr", f"depth file {path}"))
+                lib=lambda: depthrefine.refine(arr, rgb, method="thesis"), lib_subject=("depth_lr", f"depth file {path}"))
 
 
 def _params_case(ws: Workspace, text: str, expect: list[str], *, name="params.toml", mapping=None) -> Case:
@@ -212,7 +214,7 @@ def _patch_case(ws: Workspace, layout, expect: list[str], *, in_refine: bool) ->
     path = ws.file("patches.json", json.dumps(layout) if not isinstance(layout, str) else layout)
     if in_refine:  # the layout reads fine but does not fit the image: the library says so
         rects = tuple(tuple(r) for r in layout)
-        lib = lambda: depthrefine.refine(_depth_u8(), _color_u8(), params=RefineParams(patch_layout=rects))  # noqa: E731
+        lib = lambda: depthrefine.refine(_depth_u8(), _color_u8(), params=RefineParams(patch_layout=rects), method="thesis")  # noqa: E731
         return Case(ws.refine(None, None, "--patch-file", path), ["--patch-file", *expect], lib=lib)
     return Case(ws.refine(None, None, "--patch-file", path), [str(path), *expect],
                 lib=lambda: read_patch_layout(path))
@@ -221,7 +223,7 @@ def _patch_case(ws: Workspace, layout, expect: list[str], *, in_refine: bool) ->
 def _shape_case(ws: Workspace, depth: np.ndarray, color: np.ndarray, expect: list[str]) -> Case:
     dpath = ws.file("depth_other.png", depth)
     cpath = ws.file("color_other.png", color)
-    return Case(ws.refine(dpath, cpath), expect, lib=lambda: depthrefine.refine(depth, color))
+    return Case(ws.refine(dpath, cpath), expect, lib=lambda: depthrefine.refine(depth, color, method="thesis"))
 
 
 RGB = _color_u8()
@@ -326,9 +328,9 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
     "missing -o": lambda ws: Case(["refine", str(ws.depth), str(ws.color)], ["-o/--output", "required"]),
     "max-pixels exceeded": lambda ws: Case(
         ws.refine(None, None, "--max-pixels", "1000"), [str(ws.color), "5,120 pixels", "limit of 1,000", "raise the limit"],
-        lib=lambda: depthrefine.refine(_depth_u8(), RGB, max_pixels=1000), lib_subject=("rgb_hr is", f"color file {ws.color} is")),
+        lib=lambda: depthrefine.refine(_depth_u8(), RGB, max_pixels=1000, method="thesis"), lib_subject=("rgb_hr is", f"color file {ws.color} is")),
     "max-pixels 0": lambda ws: Case(ws.refine(None, None, "--max-pixels", "0"), ["--max-pixels", "positive"],
-                                    lib=lambda: depthrefine.refine(_depth_u8(), RGB, max_pixels=0)),
+                                    lib=lambda: depthrefine.refine(_depth_u8(), RGB, max_pixels=0, method="thesis")),
     "max-pixels not a number": lambda ws: Case(ws.refine(None, None, "--max-pixels", "lots"), ["--max-pixels", "'lots'"]),
     # --- manual patches
     "patch outside the image": lambda ws: _patch_case(ws, [[0, 0, 40, 64], [40, 0, 60, 64]],
@@ -487,7 +489,7 @@ def test_memory_guard_refuses_up_front(tmp_path, capsys, monkeypatch):
     assert decoded == ["depth"], "the color image must be refused before it is decoded"
     assert _snapshot(tmp_path) == before
     with pytest.raises(ValueError, match=r"rgb_hr is 80x64 = 5,120 pixels; processing it needs about 1.0 MiB"):
-        depthrefine.refine(_depth_u8(), RGB)
+        depthrefine.refine(_depth_u8(), RGB, method="thesis")
     with pytest.raises(ValueError, match="needs about"):
         depthrefine.refine_with_intermediates(_depth_u8(), RGB)
 
@@ -500,8 +502,8 @@ def test_memory_guard_passes_normal_images():
         _validate.check_pixels((20, 10), max_pixels=100)
     with _validate.pixel_limit(50):
         with pytest.raises(ValueError, match="limit of 50"):
-            depthrefine.refine(np.ones((4, 4), np.float32), np.zeros((8, 8, 3), np.uint8))
-    assert depthrefine.refine(np.ones((4, 4), np.float32), np.zeros((8, 8, 3), np.uint8)).shape == (8, 8)
+            depthrefine.refine(np.ones((4, 4), np.float32), np.zeros((8, 8, 3), np.uint8), method="thesis")
+    assert depthrefine.refine(np.ones((4, 4), np.float32), np.zeros((8, 8, 3), np.uint8), method="thesis").shape == (8, 8)
 
 
 def test_memory_estimate_covers_measured_peak(tmp_path):
@@ -576,7 +578,7 @@ def test_holes_filled_from_the_same_color_cluster():
     holes = depth.copy()
     holes[3:7, 8:10] = 0  # left region, touching the edge
     holes[9:12, 10:13] = 0  # right region, touching the edge
-    out = depthrefine.refine(holes, rgb, params=RefineParams(patches=(1, 1), n_clusters=2))
+    out = depthrefine.refine(holes, rgb, params=RefineParams(patches=(1, 1), n_clusters=2), method="thesis")
     assert not np.isnan(out).any()
     np.testing.assert_array_equal(out[:, :40], 60)
     np.testing.assert_array_equal(out[:, 40:], 180)
@@ -588,7 +590,7 @@ def test_cluster_without_valid_sample_takes_nearest_valid():
     """A whole region without depth (its cluster caught no valid sample): nearest valid sample, no NaN."""
     depth, rgb = _two_region_scene()
     depth[:, 10:] = 0
-    out = depthrefine.refine(depth, rgb, params=RefineParams(patches=(2, 2), n_clusters=2))
+    out = depthrefine.refine(depth, rgb, params=RefineParams(patches=(2, 2), n_clusters=2), method="thesis")
     assert out.dtype == np.float32 and not np.isnan(out).any()
     np.testing.assert_array_equal(out, 60)
 
@@ -612,7 +614,7 @@ def test_invalid_float_values_are_holes():
         out = depthrefine.refine(d, rgb, method=method)
         assert np.isfinite(out).all(), method
         assert out.min() >= 60 - 1e-3 and out.max() <= 180 + 1e-3, method
-    thesis = depthrefine.refine(d, rgb, params=RefineParams(patches=(1, 1), n_clusters=2))
+    thesis = depthrefine.refine(d, rgb, params=RefineParams(patches=(1, 1), n_clusters=2), method="thesis")
     np.testing.assert_array_equal(thesis[:, :40], 60)
     np.testing.assert_array_equal(thesis[:, 40:], 180)
 
@@ -628,13 +630,13 @@ def test_saturated_code_valid_by_default_invalid_on_request(tmp_path):
     assert marked.max() == 18000 and (marked == 0).sum() == 4
     assert read_depth(path).max() == 65535  # the file is not changed by reading
     params = RefineParams(patches=(1, 1), n_clusters=2)
-    out = depthrefine.refine(marked, _color_u8(), params=params)
+    out = depthrefine.refine(marked, _color_u8(), params=params, method="thesis")
     np.testing.assert_array_equal(out[:, :40], 6000)
     np.testing.assert_array_equal(out[:, 40:], 18000)
     # 8-bit 255 stays a valid (nearest) level by default: the thesis's depth intensity
     d8 = _depth_u8()
     d8[:, 10:] = 255
-    assert depthrefine.refine(d8, _color_u8(), params=params)[:, 40:].min() == 255
+    assert depthrefine.refine(d8, _color_u8(), params=params, method="thesis")[:, 40:].min() == 255
 
 
 def test_saturated_invalid_through_cli(tmp_path, capsys):

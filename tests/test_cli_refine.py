@@ -110,11 +110,11 @@ def test_every_registered_method(files, tmp_path, method):
 def test_patches_and_clusters(files, tmp_path, args, params):
     depth, color = files
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), *args]) == 0
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", *args]) == 0
     result = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
-    np.testing.assert_array_equal(result, expected(SCENE.depth_lr, params=params))
+    np.testing.assert_array_equal(result, expected(SCENE.depth_lr, method="thesis", params=params))
     # The options matter: the default parameters give another result.
-    assert not np.array_equal(result, expected(SCENE.depth_lr))
+    assert not np.array_equal(result, expected(SCENE.depth_lr, method="thesis"))
 
 
 def test_patch_file(files, tmp_path):
@@ -123,9 +123,9 @@ def test_patch_file(files, tmp_path):
     patch_file = tmp_path / "patches.json"
     patch_file.write_text(json.dumps(layout), encoding="utf-8")
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--patch-file", str(patch_file)]) == 0
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--patch-file", str(patch_file)]) == 0
     params = RefineParams(patch_layout=((0, 0, 48, 64), (48, 0, 48, 32), (48, 32, 48, 32)))
-    np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), expected(SCENE.depth_lr, params=params))
+    np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), expected(SCENE.depth_lr, method="thesis", params=params))
 
 
 def test_patch_file_that_leaves_a_gap_is_exit_2(files, tmp_path, capsys):
@@ -133,7 +133,7 @@ def test_patch_file_that_leaves_a_gap_is_exit_2(files, tmp_path, capsys):
     patch_file = tmp_path / "patches.json"
     patch_file.write_text(json.dumps([[0, 0, 48, 64]]), encoding="utf-8")
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--patch-file", str(patch_file)]) == 2
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--patch-file", str(patch_file)]) == 2
     err = capsys.readouterr().err
     assert "uncovered" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
@@ -145,9 +145,9 @@ def test_params_toml(files, tmp_path):
     toml.write_text("patches = [2, 2]\nn_clusters = 3\ncorrect_depth = false\ntolerance_levels = 3.0\n",
                     encoding="utf-8")
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--params", str(toml)]) == 0
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--params", str(toml)]) == 0
     params = RefineParams(patches=(2, 2), n_clusters=3, correct_depth=False, tolerance_levels=3.0)
-    np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), expected(SCENE.depth_lr, params=params))
+    np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), expected(SCENE.depth_lr, method="thesis", params=params))
 
 
 def test_options_override_the_params_file(files, tmp_path):
@@ -155,9 +155,9 @@ def test_options_override_the_params_file(files, tmp_path):
     toml = tmp_path / "params.toml"
     toml.write_text("n_clusters = 3\n", encoding="utf-8")
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--params", str(toml), "--clusters", "2"]) == 0
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--params", str(toml), "--clusters", "2"]) == 0
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED),
-                                  expected(SCENE.depth_lr, params=RefineParams(n_clusters=2)))
+                                  expected(SCENE.depth_lr, method="thesis", params=RefineParams(n_clusters=2)))
 
 
 def test_params_toml_with_an_unknown_key_is_exit_2(files, tmp_path, capsys):
@@ -176,7 +176,7 @@ def test_save_intermediate_writes_the_pictures(files, tmp_path):
     depth, color = files
     out = tmp_path / "out.png"
     folder = tmp_path / "steps"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--save-intermediate", str(folder),
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--save-intermediate", str(folder),
                  "--patches", "2x2"]) == 0
     names = {p.name for p in folder.iterdir()}
     pictures = {"result_colorized.png", "result_blended.png", "cluster_labels.png", "sparse_depth_over_color.png",
@@ -196,7 +196,7 @@ def test_save_intermediate_writes_the_pictures(files, tmp_path):
         assert npz["labels"].shape == (64, 96) and npz["patches"].shape == (4, 4)
     # The result is the same as without --save-intermediate.
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED),
-                                  expected(SCENE.depth_lr, params=RefineParams(patches=(2, 2))))
+                                  expected(SCENE.depth_lr, method="thesis", params=RefineParams(patches=(2, 2))))
 
 
 def test_save_intermediate_for_a_baseline_writes_the_result_pictures(files, tmp_path):
@@ -227,13 +227,13 @@ def test_non_integer_ratio_applies_the_scale_step_and_says_so(tmp_path, capsys):
     rgb = cv2.resize(SCENE.rgb_hr, (106, 71), interpolation=cv2.INTER_NEAREST)   # ratio 4.42
     color = write_color(tmp_path / "color.png", rgb)
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out)]) == 0
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis"]) == 0
     result = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
     assert result.shape == (71, 106)
     err = capsys.readouterr().err
     assert "note:" in err and "scale step" in err and "non-integer ratio" in err
     with pytest.warns(depthrefine.ScaleWarning):
-        np.testing.assert_array_equal(result, expected(SCENE.depth_lr, rgb))
+        np.testing.assert_array_equal(result, expected(SCENE.depth_lr, rgb, method="thesis"))
 
 
 def test_python_dash_m(files, tmp_path):
@@ -268,6 +268,6 @@ def test_patches_conflicting_with_a_patch_layout_in_the_params_file_is_exit_2(fi
     toml = tmp_path / "params.toml"
     toml.write_text("patch_layout = [[0, 0, 64, 64]]\n", encoding="utf-8")
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--params", str(toml), "--patches", "2x2"]) == 2
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--params", str(toml), "--patches", "2x2"]) == 2
     err = capsys.readouterr().err
     assert "conflicts with patch_layout" in err and not out.exists()

@@ -344,7 +344,7 @@ def test_run_with_a_non_integer_ratio_applies_the_scale_step(captures, tmp_path,
     cv2.imwrite(str(color), np.where(front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2))
     out = tmp_path / "refined.png"
     code = main(["run", str(captures["depth"]), str(color), "--rig", str(rig_file), "--method", "shift",
-                 "--depth-units", "0.001", "--patches", "2x2", "-o", str(out)])
+                 "--depth-units", "0.001", "--refine-method", "thesis", "--patches", "2x2", "-o", str(out)])
     err = capsys.readouterr().err
     assert code == 0, err
     assert "non-integer ratio 7.39" in err and "depth enlarged x7, color resized x0.946" in err

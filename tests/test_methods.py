@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import depthrefine
-from depthrefine import METHODS, RefineParams, get_method, refine, register_method
+from depthrefine import DEFAULT_METHOD, METHODS, GbpParams, RefineParams, get_method, refine, register_method
+from depthrefine.methods.gbp import upsample_gbp
 from depthrefine.methods.thesis.refine import refine_thesis
 
 
@@ -55,15 +56,19 @@ def test_unknown_method_lists_the_known_ones():
 def test_params_must_be_the_methods_own_type():
     depth, rgb = np.ones((2, 2), np.uint8), np.zeros((4, 4, 3), np.uint8)
     with pytest.raises(TypeError, match="takes params of type RefineParams; got dict"):
-        refine(depth, rgb, params={"n_clusters": 2})
+        refine(depth, rgb, method="thesis", params={"n_clusters": 2})
+    with pytest.raises(TypeError, match="takes params of type GbpParams; got RefineParams.*method='thesis'"):
+        refine(depth, rgb, params=RefineParams())
     with pytest.raises(TypeError, match="'bilinear' takes no parameters"):
         refine(depth, rgb, method="bilinear", params=RefineParams())
 
 
-def test_default_method_is_the_thesis(small_scene):
+def test_default_method_is_gbp_and_thesis_stays_exact(small_scene):
+    assert DEFAULT_METHOD == "gbp" and get_method(DEFAULT_METHOD).params_type is GbpParams
     a = refine(small_scene.depth_lr, small_scene.rgb_hr)
-    b = refine_thesis(small_scene.depth_lr, small_scene.rgb_hr)
-    assert a.tobytes() == b.tobytes()
+    assert a.tobytes() == upsample_gbp(small_scene.depth_lr, small_scene.rgb_hr).tobytes()
+    b = refine(small_scene.depth_lr, small_scene.rgb_hr, method="thesis")
+    assert b.tobytes() == refine_thesis(small_scene.depth_lr, small_scene.rgb_hr).tobytes()
 
 
 @pytest.mark.parametrize("name", sorted(METHODS))

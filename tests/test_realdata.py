@@ -55,8 +55,8 @@ def test_faithful_thesis_on_middlebury_books(shared_data, s):
     depth_lr, rgb, gt = read_scene(folder, s)
     assert depth_lr.dtype == np.uint8 and rgb.shape[:2] == gt.shape == (1088, 1376)
 
-    thesis = rmse(depthrefine.refine(depth_lr, rgb), gt)
-    no_correction = rmse(depthrefine.refine(depth_lr, rgb, params=RefineParams(correct_depth=False)), gt)
+    thesis = rmse(depthrefine.refine(depth_lr, rgb, method="thesis"), gt)
+    no_correction = rmse(depthrefine.refine(depth_lr, rgb, params=RefineParams(correct_depth=False), method="thesis"), gt)
     nearest = rmse(depthrefine.refine(depth_lr, rgb, method="nearest"), gt)
     bilinear = rmse(depthrefine.refine(depth_lr, rgb, method="bilinear"), gt)
     figures = dict(s=s, thesis=thesis, no_correction=no_correction, nearest=nearest, bilinear=bilinear)

@@ -157,7 +157,7 @@ def test_two_planes_edge_sits_on_the_color_edge_where_bilinear_blurs_it(shape, s
     scene = make_two_planes(shape, s)
     edge = int(np.argmax(scene.labels_hr[0]))
     assert edge % s not in (s // 2, (s // 2 + 1) % s), "the color edge must lie between two depth samples"
-    refined = depthrefine.refine(scene.depth_lr, scene.rgb_hr)
+    refined = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis")
     np.testing.assert_array_equal(refined, scene.depth_hr_gt)
     bilinear = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="bilinear")
     blurred = (bilinear != scene.depth_hr_gt).sum(axis=1)
@@ -172,7 +172,7 @@ def test_two_planes_in_other_units_and_patch_grids(two_planes):
     ]
     for scene in scenes:
         for params in (None, RefineParams(patches=(1, 1)), RefineParams(patches=(2, 1), n_clusters=2)):
-            out = depthrefine.refine(scene.depth_lr, scene.rgb_hr, params=params)
+            out = depthrefine.refine(scene.depth_lr, scene.rgb_hr, params=params, method="thesis")
             np.testing.assert_array_equal(out, scene.depth_hr_gt)
 
 
@@ -180,9 +180,9 @@ def test_a_rare_sample_in_a_cluster_is_corrected():
     scene = make_two_planes((16, 32), 4, edge_col=13)
     depth = scene.depth_lr.copy()
     depth[1, 5] = 120                      # noise spike inside the right plane
-    corrected = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1)))
+    corrected = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1)), method="thesis")
     np.testing.assert_array_equal(corrected, scene.depth_hr_gt)
-    raw = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1), correct_depth=False))
+    raw = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1), correct_depth=False), method="thesis")
     assert raw.max() > 60 and (raw[:, 13:] != 60).sum() > 0
 
 
@@ -193,7 +193,7 @@ def test_an_invalid_sample_is_filled_from_its_cluster():
     as_float = scene.depth_lr.astype(np.float32)
     as_float[2, 2] = np.nan
     for depth in (as_uint8, as_float):
-        out = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1)))
+        out = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1)), method="thesis")
         np.testing.assert_array_equal(out, scene.depth_hr_gt)
 
 
@@ -220,7 +220,7 @@ def test_a_cluster_without_samples_takes_the_nearest_corrected_sample():
 def test_progress_is_reported_after_each_patch(small_scene):
     calls = []
     depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr, params=RefineParams(patches=(3, 2)),
-                       progress=lambda done, total: calls.append((done, total)))
+                       progress=lambda done, total: calls.append((done, total)), method="thesis")
     assert calls == [(i, 6) for i in range(1, 7)]
 
 
@@ -251,7 +251,7 @@ def test_intermediates_give_the_same_depth_bit_for_bit(params, dtype):
     plain = refine_thesis(scene.depth_lr, scene.rgb_hr, params=params)
     assert r.depth_hr.dtype == plain.dtype == np.float32
     assert r.depth_hr.tobytes() == plain.tobytes()
-    assert r.depth_hr.tobytes() == depthrefine.refine(scene.depth_lr, scene.rgb_hr, params=params).tobytes()
+    assert r.depth_hr.tobytes() == depthrefine.refine(scene.depth_lr, scene.rgb_hr, params=params, method="thesis").tobytes()
 
 
 def test_intermediates_with_the_scale_step_give_the_same_depth():
@@ -356,7 +356,7 @@ def test_thesis_beats_nearest_and_bilinear_with_edges_on_the_color_edges(s, shap
     for seed in SEEDS:
         scene = make_scene(shape, s, n_objects=3, seed=seed, color_noise_std=6.0, shading=0.1)
         gt = scene.depth_hr_gt
-        thesis = depthrefine.refine(scene.depth_lr, scene.rgb_hr)
+        thesis = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis")
         nearest = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="nearest")
         bilinear = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="bilinear")
         e_thesis, e_nearest, e_bilinear = rmse(thesis, gt), rmse(nearest, gt), rmse(bilinear, gt)
@@ -374,7 +374,7 @@ def test_thesis_beats_the_baselines_on_metric_depth():
     scene = make_scene((192, 192), 8, n_objects=3, seed=1, color_noise_std=6.0, shading=0.1,
                        dtype=np.float32, hole_fraction=0.03)
     gt = scene.depth_hr_gt
-    thesis = depthrefine.refine(scene.depth_lr, scene.rgb_hr)
+    thesis = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis")
     assert np.isfinite(thesis).all()
     for method in ("nearest", "bilinear", "bicubic"):
         assert rmse(thesis, gt) < 0.8 * rmse(depthrefine.refine(scene.depth_lr, scene.rgb_hr, method=method), gt)
@@ -382,7 +382,7 @@ def test_thesis_beats_the_baselines_on_metric_depth():
 
 def test_away_from_edges_the_thesis_keeps_each_surface_depth():
     scene = make_scene((128, 128), 4, n_objects=3, seed=4, noise_std=1.0)
-    thesis = depthrefine.refine(scene.depth_lr, scene.rgb_hr)
+    thesis = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis")
     interior = ~scene.edge_band(6)
     err = np.abs(thesis - scene.depth_hr_gt)[interior]
     # Noise of 1 level, kept by the +-5-level tolerance and averaged by the interpolation.

@@ -92,7 +92,7 @@ def test_refine_with_a_non_integer_ratio_warns_and_returns_the_color_shape():
     rgb = np.zeros((37, 44, 3), np.uint8)
     rgb[:, 22:] = 200
     with pytest.warns(depthrefine.ScaleWarning, match="non-integer ratio"):
-        out = depthrefine.refine(depth, rgb, params=depthrefine.RefineParams(patches=(1, 1)))
+        out = depthrefine.refine(depth, rgb, params=depthrefine.RefineParams(patches=(1, 1)), method="thesis")
     assert out.shape == (37, 44) and out.dtype == np.float32
     assert set(np.unique(out).tolist()) == {30.0, 100.0}
     # The edge stays where the color edge is, within the resize (one work pixel = 44/48 color pixels).
@@ -100,5 +100,5 @@ def test_refine_with_a_non_integer_ratio_warns_and_returns_the_color_shape():
 
 
 def test_no_warning_for_an_integer_ratio(recwarn):
-    depthrefine.refine(np.full((4, 4), 9, np.uint8), np.zeros((16, 16, 3), np.uint8))
+    depthrefine.refine(np.full((4, 4), 9, np.uint8), np.zeros((16, 16, 3), np.uint8), method="thesis")
     assert not [w for w in recwarn if issubclass(w.category, depthrefine.ScaleWarning)]

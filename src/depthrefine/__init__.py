@@ -3,13 +3,15 @@
 The main entry point is :func:`refine`::
 
     import depthrefine
-    depth_hr = depthrefine.refine(depth_lr, rgb_hr)                 # the thesis method
+    depth_hr = depthrefine.refine(depth_lr, rgb_hr)                 # guided back-projection ("gbp")
+    depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="thesis")  # the thesis method, as specified
     depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="bilinear")
 
 Subpackages, one per domain (the README's "Architecture" section draws the flow):
 
 - ``methods``   the registry :func:`refine` looks up, and one module per method family:
-                ``baselines``, ``peers`` (OpenCV-contrib filters), ``thesis`` (chapter 4)
+                ``baselines``, ``peers`` (OpenCV-contrib filters), ``gbp`` (the default),
+                ``thesis`` (chapter 4)
 - ``rig``       two cameras to one grid (chapter 3): camera models, calibration,
                 undistortion, shift and reprojection alignment, point clouds
 - ``bench``     metrics, the simulated ToF sensor, protocols, runner and report
@@ -22,7 +24,8 @@ Subpackages, one per domain (the README's "Architecture" section draws the flow)
 - ``evaluate``  the public name of the metrics (``bench.metrics``)
 """
 
-from .methods.registry import METHODS, Method, get_method, refine, register_method
+from .methods.gbp import GbpParams
+from .methods.registry import DEFAULT_METHOD, METHODS, Method, get_method, refine, register_method
 from .methods.thesis.params import RefineParams
 from .methods.thesis.refine import Refinement, ScaleWarning, refine_with_intermediates
 
@@ -32,6 +35,8 @@ __all__ = [
     "refine",
     "refine_with_intermediates",
     "RefineParams",
+    "GbpParams",
+    "DEFAULT_METHOD",
     "Refinement",
     "ScaleWarning",
     "METHODS",

@@ -20,6 +20,10 @@ The ``bench`` command, the report and the data readers all read
 ``tof``
     Simulated ToF (ours, :mod:`depthrefine.bench.simulate`) from the Park
     ground truth and color, scored like ``park``.
+``realtof``
+    A self-benchmark on real ToF captures (``real_tof/``): the real depth is
+    the target, the input is its valid-aware block mean at x4 and x8
+    (:func:`realtof_case`); RMSE in millimetres over the target's valid pixels.
 
 The scenes in :data:`TUNING_SCENES` are the ones the peers' parameters were
 tuned on, and the same scenes seen under another protocol (``tof`` shares the
@@ -61,6 +65,9 @@ __all__ = [
     "tof_seed",
     "pairs_protocol",
     "PAIRS",
+    "realtof_case",
+    "realtof_guide",
+    "REALTOF_SCALES",
 ]
 
 #: Border crop of the middlebury30 / lu protocols, pixels.
@@ -496,3 +503,72 @@ def pairs_protocol(folder: str | os.PathLike, *, units: str | None = None, inval
         reader="triplets", build_case=functools.partial(_pairs_build, border=int(crop)), units=units,
         reader_options={"invalid": float(invalid)},
     )
+
+
+# ---------------------------------------------------------------- real ToF captures: the realtof self-benchmark
+
+#: The factors of the ``realtof`` protocol (the real targets are small: 256x192 and 640x576).
+REALTOF_SCALES = (4, 8)
+
+
+def realtof_guide(scene: str, guide: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """The ``realtof`` guide of a capture, (rows, cols, 3) uint8 on the target's grid of ``shape``.
+
+    ``iphone``: the RGB frame resized to the depth grid by area averaging
+    (1920x1440 -> 256x192). ``kinect``: the active IR image (same grid as the
+    depth, 16-bit) mapped to 8 bits with a log curve,
+    ``round(255 * ln(1 + IR) / ln(65536))``, which spreads the IR's
+    dynamic range (median about 250, saturated at 65535) over the 8 bits.
+
+    Examples
+    --------
+    >>> ir = np.array([[0, 255, 65535]], np.uint16)
+    >>> realtof_guide("kinect", np.repeat(ir[..., None], 3, axis=2), (1, 3))[0, :, 0].tolist()
+    [0, 128, 255]
+    """
+    import cv2
+
+    rows, cols = shape
+    if scene == "kinect":
+        ir = np.asarray(guide)[..., 0].astype(np.float64)
+        gray = np.clip(np.round(255.0 * np.log1p(ir) / np.log1p(65535.0)), 0, 255).astype(np.uint8)
+        return np.ascontiguousarray(np.repeat(gray[:rows, :cols, None], 3, axis=2))
+    if scene == "iphone":
+        rgb = np.asarray(guide)
+        if rgb.dtype != np.uint8:
+            raise ValueError(f"the iPhone guide must be an 8-bit RGB image; got {rgb.dtype}.")
+        return np.ascontiguousarray(cv2.resize(rgb, (cols, rows), interpolation=cv2.INTER_AREA))
+    raise ValueError(f"unknown real ToF capture {scene!r}; expected 'iphone' or 'kinect'.")
+
+
+def realtof_case(scene: str, scale: int, guide: np.ndarray, depth: np.ndarray) -> BenchCase:
+    """A case of the ``realtof`` protocol: the real depth as target, its valid-aware block mean as input.
+
+    The target is ``depth`` (mm, 0 = no measurement, not scored) cropped to
+    a multiple of ``scale``; the input is the mean of the valid target
+    pixels of each ``scale x scale`` block (0 where a block has none); the
+    guide is :func:`realtof_guide`. Scored over the whole grid.
+    """
+    from ..methods.gbp import block_mean_valid
+
+    if scale not in REALTOF_SCALES:
+        raise ValueError(f"the realtof protocol is defined at x{' and x'.join(map(str, REALTOF_SCALES))} only.")
+    gt = gt_float(crop_to_multiple(np.asarray(depth), scale))
+    depth_lr = np.nan_to_num(block_mean_valid(gt, scale), nan=0.0)
+    rgb = realtof_guide(scene, guide, gt.shape)
+    return BenchCase("realtof", scene, scale, depth_lr, rgb, gt, border=0, split=_split("realtof", scene))
+
+
+def _realtof_build(protocol: Protocol, scene: Scene, scale: int) -> BenchCase:
+    return realtof_case(scene.name, scale, scene.rgb_hr, scene.depth_gt)
+
+
+register_protocol(Protocol(
+    name="realtof",
+    title="Real ToF self-benchmark: real iPhone LiDAR and Azure Kinect depth as target, its valid-aware block "
+          "mean as input (x4, x8), RMSE in mm",
+    folder="real_tof",
+    layout="real_tof/iphone_lidar_bookshelf/{arkit_depth.png, image.jpg} and "
+           "real_tof/azure_kinect_mug/derived/{depth_640x576_mm.png, ir_640x576.png}",
+    reader="real_tof", build_case=_realtof_build, units="mm",
+))

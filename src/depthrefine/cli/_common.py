@@ -97,7 +97,8 @@ def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "-
                        method_help: str | None = None) -> None:
     """The refinement method (``method_flag``, dest ``method``), --patches / --patch-file, --clusters, --params."""
     parser.add_argument(method_flag, dest="method", default=DEFAULT_METHOD, choices=sorted(METHODS),
-                        help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD})")
+                        help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD}, guided back-projection; "
+                             "thesis: the thesis method as specified)")
     grid = parser.add_mutually_exclusive_group()
     grid.add_argument("--patches", type=parse_grid, metavar="COLSxROWS",
                       help="automatic patch grid: COLS patches across, ROWS down, columns first as in --board "
@@ -209,6 +210,12 @@ def build_params(args: argparse.Namespace, *, method: str | None = None,
     everywhere.
     """
     entry = get_method(args.method if method is None else method)
+    thesis_options = [flag for flag, value in (("--patches", args.patches), ("--patch-file", args.patch_file),
+                                               ("--clusters", args.clusters)) if value is not None]
+    if thesis_options and entry.params_type is not None and "patches" not in {
+            f.name for f in dataclasses.fields(entry.params_type)}:
+        raise ValueError(f"{' and '.join(thesis_options)} set the thesis method's patches and clusters; "
+                         f"the method is {entry.name!r}: add --method thesis.")
     overrides: dict[str, Any] = dict(base or {})
     if args.params:
         overrides.update(read_mapping(args.params, what="parameter"))

@@ -16,8 +16,8 @@ from ._calibration import read_calibration
 from ._ply import read_ply, write_ply
 from ._sample import SAMPLE_SCALES, SCENES, RealCapture, SampleScene, load_capture, load_sample, sample_folder
 from ._sequences import Frame, Sequence, open_sequence
-from ._datasets import (DATASET_READERS, TRIPLET_FOLDERS, DatasetScene, dataset_folder, read_dataset,
-                        read_rgbd_pairs, read_scene_folders, read_triplets)
+from ._datasets import (DATASET_READERS, REAL_TOF_CAPTURES, TRIPLET_FOLDERS, DatasetScene, dataset_folder,
+                        read_dataset, read_real_tof, read_rgbd_pairs, read_scene_folders, read_triplets)
 
 __all__ = [
     "Frame",
@@ -62,6 +62,8 @@ __all__ = [
     "load_capture",
     "DATASET_READERS",
     "DatasetScene",
+    "REAL_TOF_CAPTURES",
+    "read_real_tof",
     "dataset_folder",
     "read_dataset",
     "read_scene_folders",

@@ -6,6 +6,8 @@ a README saying how it is scored)::
     DATA/middlebury2005_park/<scene>/{color.png, gt_disp.png, noisy_x4.png, ...}
     DATA/middlebury_lu30/{RGB/Middlebury_NN_output_color.png, Depth/Middlebury_NN_output_depth.png}
     DATA/lu6/{RGB/RGBD_0N_ouput_color.png, Depth/RGBD_0N_output_depth.png}
+    DATA/real_tof/{iphone_lidar_bookshelf/{arkit_depth.png, image.jpg},
+                   azure_kinect_mug/derived/{depth_640x576_mm.png, ir_640x576.png}}
 
 A folder with only some of the scenes works too: whatever scenes are
 present are read. A scene (or one scale of it) whose files are missing or
@@ -28,7 +30,7 @@ from ._files import InputFileError
 from ._images import read_depth, read_rgb
 
 __all__ = ["DatasetScene", "DATASET_READERS", "dataset_folder", "read_dataset", "read_scene_folders",
-           "read_rgbd_pairs", "read_triplets", "TRIPLET_FOLDERS"]
+           "read_rgbd_pairs", "read_triplets", "TRIPLET_FOLDERS", "read_real_tof", "REAL_TOF_CAPTURES"]
 
 _COLOR_RE = re.compile(r"^(?P<name>.+?)_(?:output|ouput)_color\.png$", re.IGNORECASE)
 
@@ -245,11 +247,56 @@ def read_triplets(folder: str | os.PathLike, *, scales: tuple[int, ...] = (), in
     return scenes
 
 
+#: The real ToF captures of ``real_tof/``: scene name -> (depth file, guide file), relative to the folder.
+#: ``iphone``: Apple LiDAR depth (mm) and the RGB frame it is registered to; ``kinect``: Azure Kinect
+#: depth (mm, 0 = invalid) and the active IR image of the same sensor (16-bit, same grid).
+REAL_TOF_CAPTURES = {
+    "iphone": ("iphone_lidar_bookshelf/arkit_depth.png", "iphone_lidar_bookshelf/image.jpg"),
+    "kinect": ("azure_kinect_mug/derived/depth_640x576_mm.png", "azure_kinect_mug/derived/ir_640x576.png"),
+}
+
+
+def read_real_tof(folder: str | os.PathLike, *, scales: tuple[int, ...] = (),
+                  notes: list[str] | None = None) -> list[DatasetScene]:
+    """The real ToF captures of :data:`REAL_TOF_CAPTURES` in ``folder`` (``scales`` unused).
+
+    ``depth_gt`` is the real depth as stored (uint16 mm); ``rgb_hr`` is the
+    guide as stored, RGB (the iPhone's 1920x1440 frame, on a different grid
+    than the depth) or the Kinect's 16-bit IR repeated to three channels. A
+    capture with a missing or unreadable file is skipped, with a note.
+
+    Raises
+    ------
+    InputFileError
+        No usable capture at all.
+    """
+    folder = Path(folder)
+    scenes = []
+    for name, (depth_name, guide_name) in REAL_TOF_CAPTURES.items():
+        depth_path, guide_path = folder / depth_name, folder / guide_name
+        missing = [str(p) for p in (depth_path, guide_path) if not p.is_file()]
+        if missing:
+            _note(notes, f"skipped {name}: {' and '.join(missing)} missing.")
+            continue
+        try:
+            gt = read_depth(depth_path)
+            guide = read_rgb(guide_path)
+        except (InputFileError, ValueError, OSError) as exc:
+            _note(notes, f"skipped {name}: {exc}")
+            continue
+        scenes.append(DatasetScene(name, guide, gt, {}, depth_path.parent))
+    if not scenes:
+        layout = ", ".join(f"{folder.name}/{d} with {folder.name}/{g}" for d, g in REAL_TOF_CAPTURES.values())
+        raise InputFileError(f"{folder} holds no usable real ToF capture; expected {layout}.")
+    return scenes
+
+
 #: The readers a protocol can name (``Protocol.reader``).
 DATASET_READERS: dict[str, Callable[..., list[DatasetScene]]] = {
     "scene_folders": read_scene_folders,
     "rgbd_pairs": read_rgbd_pairs,
     "triplets": read_triplets,
+    "real_tof": read_real_tof,
 }
 
 

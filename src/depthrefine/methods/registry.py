@@ -17,7 +17,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import baselines, peers
+from . import baselines, gbp, peers
 from .._validate import check_pixels
 from .scale import plan_scale
 from .thesis.params import RefineParams
@@ -25,8 +25,9 @@ from .thesis.refine import refine_thesis, refine_thesis_stateful
 
 __all__ = ["Method", "METHODS", "DEFAULT_METHOD", "register_method", "get_method", "refine"]
 
-#: The method :func:`refine` (and ``depthrefine refine``) uses when none is named.
-DEFAULT_METHOD = "thesis"
+#: The method of :func:`refine` and of the commands when none is named: guided
+#: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).
+DEFAULT_METHOD = "gbp"
 
 
 @dataclass(frozen=True)
@@ -139,11 +140,14 @@ def refine(
         Registered high-resolution color image, RGB order (uint8, uint16, or
         float in [0, 1]).
     method : str
-        A key of :data:`METHODS` (default :data:`DEFAULT_METHOD`): ``"thesis"``, ``"nearest"``,
-        ``"bilinear"``, ``"bicubic"``, and any later registration.
+        A key of :data:`METHODS`: ``"gbp"`` (default, guided
+        back-projection), ``"thesis"`` (the thesis method, exactly as
+        specified), ``"nearest"``, ``"bilinear"``, ``"bicubic"``, the peers
+        ``"jbf"``, ``"guided"``, ``"fgs"``, ``"wmf"``, and any later registration.
     params : dataclass, optional
-        The method's parameters (:class:`RefineParams` for ``"thesis"``);
-        ``None`` for its defaults.
+        The method's parameters (:class:`~depthrefine.methods.gbp.GbpParams`
+        for ``"gbp"``, :class:`RefineParams` for ``"thesis"``); ``None`` for
+        its defaults.
     progress : callable, optional
         ``progress(done, total)``, for long runs.
     max_pixels : int, optional
@@ -186,9 +190,11 @@ def check_call(entry: Method, depth_lr: Any, rgb_hr: Any, params: Any, max_pixel
         if entry.params_type is None:
             raise TypeError(f"method {method!r} takes no parameters; pass params=None.")
         if not isinstance(params, entry.params_type):
+            owner = [m.name for m in METHODS.values() if m.params_type is not None and isinstance(params, m.params_type)]
+            hint = f" {type(params).__name__} are the parameters of method={owner[0]!r}; pass it." if owner else ""
             raise TypeError(
                 f"method {method!r} takes params of type {entry.params_type.__name__}; "
-                f"got {type(params).__name__}."
+                f"got {type(params).__name__}.{hint}"
             )
 
 
@@ -213,3 +219,6 @@ register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParam
 if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen have a working solver
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
+register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,
+                summary="guided back-projection (the default): back-projection with a color-guided smoother, "
+                        "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")

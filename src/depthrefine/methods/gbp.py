@@ -1,0 +1,451 @@
+"""Guided back-projection (``gbp``): the default method.
+
+The method upsamples a low-resolution depth map ``y`` (``h x w``) to the grid
+of a registered color image (``H x W``, factor ``s``, integer or not) in four
+steps. Every parameter is a field of :class:`GbpParams`; what the method needs
+to know about the input (its noise level, where its depth edges are, how far
+the color image can be trusted) it measures from the input itself, so one set
+of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
+
+1. **Noise.** The noise ``sigma`` is estimated from the finest diagonal Haar
+   band of ``y`` (a clipped RMS, robust to the few depth edges in that band),
+   and expressed in 8-bit levels of the map's own depth range (1st to 99th
+   percentile), so the same value means the same thing in any unit.
+2. **Detail: back-projection with an edge-aware solve.** Start from bicubic
+   enlargement; repeat ``iterations`` times: add the bicubic enlargement of
+   the residual ``y - D(x)`` (``D``: the mean over each pixel's footprint,
+   the integration a ToF pixel does), then smooth with OpenCV-contrib's fast
+   global smoother (weighted least squares, Min et al. 2014) guided by the
+   color image, with a strength that grows with ``sigma**2``; clip to the
+   input's range. The residual is zero at invalid input pixels, so they never
+   pull the result.
+3. **Flat areas.** Where the input shows no depth edge above the noise (its
+   3x3 range is below ``edge_low * sigma``), a much stronger smoother of the
+   bilinear enlargement takes over, blended in over ``edge_width * sigma``:
+   noise is averaged over whole color segments there, while depth edges keep
+   the back-projected detail. On a noise-free input there is nothing to
+   average away, so this share fades out below ``flat_noise`` levels.
+4. **Guide trust (do no harm).** Real guides carry texture that is not depth.
+   The method checks the guide against the input one octave down: the input
+   is reduced x2 (mean of the valid pixels), steps 1-3 are run on it with the
+   color image at the input's resolution, and per region of
+   ``2 * trust_radius + 1`` input pixels a least-squares fit says how much of
+   the guided detail (the result minus the bicubic enlargement of its own
+   reduction) agrees with the withheld input, in [0, 1], with a prior towards
+   trust where the detail is weaker than ``trust_prior`` levels, no trust
+   next to missing input pixels, and shares below ``trust_floor`` counted as
+   none. The full-resolution result keeps that share of its guided detail
+   and falls back to plain bicubic interpolation elsewhere: of the input
+   itself when it is noise-free, of the result's own (denoised) reduction
+   as the noise grows to ``flat_noise`` levels.
+
+Invalid input pixels (0, NaN, inf, negative) are filled from the nearest
+valid pixel before any interpolation, as the other methods do, and no
+invalid value is ever averaged in. The output is clipped to the input's
+valid range and is deterministic (bit-identical for the same input).
+
+Parameters were chosen on the benchmark's tuning scenes (Park's Dolls and
+Laundry, four scenes of the 30-image Middlebury set; ``docs/bench.md``), with
+two exceptions said on their fields: ``lambda_lr`` was lowered after seeing
+the ``lu`` scenes, and ``hole_margin`` was chosen on the real Kinect capture.
+
+References
+----------
+M. Irani, S. Peleg, "Improving resolution by image registration", CVGIP 1991
+(back-projection). D. Min, S. Choi, J. Lu, B. Ham, K. Sohn, M. N. Do, "Fast
+global image smoothing based on weighted least squares", TIP 2014.
+D. L. Donoho, I. M. Johnstone, "Ideal spatial adaptation by wavelet
+shrinkage", Biometrika 1994 (noise from the finest wavelet band).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .._fill import fill_invalid_nearest
+from .._validate import as_depth, check_int, check_number, check_rgb
+from .peers import _guide8
+
+__all__ = ["GbpParams", "upsample_gbp", "estimate_noise", "guide_trust", "block_mean_valid"]
+
+Progress = Callable[[int, int], None]
+
+
+@dataclass(frozen=True)
+class GbpParams:
+    """Parameters of guided back-projection (the defaults, each with the reason for it).
+
+    Lengths are in low-resolution pixels; a smoothing weight ``lambda`` of
+    the fast global smoother is a squared length in color pixels, so it is
+    given per squared low-resolution pixel and multiplied by ``s**2`` (or by
+    ``s``, stated per field). Color sensitivities are in 8-bit guide levels.
+
+    Attributes
+    ----------
+    iterations : int
+        Back-projection rounds (6). In a first version of this method the
+        tuning-scene mean RMSE went 2.66 / 2.63 / 2.61 for 3 / 4 / 6 rounds;
+        each round costs one smoother pass (30-60 ms at 1.5 Mpx here).
+    lambda_lr : float
+        Smoothness of the detail solve on a noise-free input, per squared
+        low-resolution pixel (0.03). On the clean tuning scenes 0.03 to 0.12
+        scored within 4 % (0.12 best); 0.03 was chosen after seeing the
+        ``lu`` scenes (x4 2.20 against 2.52 with 0.12, bicubic 2.43), so
+        ``lu`` is not a clean hold-out for this value (``docs/bench.md``).
+        Stronger smoothing rounds the depth edges.
+    sigma_color : float
+        Color sensitivity of the detail solve (4). In the first prototype, 8
+        lost detail at every scale (tuning mean 3.98 against 3.18); 2 was
+        worse than 3 and 4 on the noisy scenes.
+    noise_ref : float
+        The noise (8-bit levels of the depth range) at which the detail
+        solve's smoothing doubles; it grows with ``(sigma / noise_ref)**2``,
+        the ratio of noise to data weight of a least-squares fit (1). With
+        ``lambda_lr = 0.03`` this keeps the smoothing of Park's noisy inputs
+        (sigma about 6.5 levels) where the tuning put it (0.12 and 2).
+    flat_lambda_lr : float
+        Smoothness of the flat-area solve, ``lambda = flat_lambda_lr * s``
+        (32). Growing with ``s`` rather than ``s**2`` kept x16 from
+        oversmoothing (Park x4 / x16: 2.17 / 3.93 against 2.30 / 3.94 with
+        ``8 * s**2``).
+    flat_sigma_color : float
+        Color sensitivity of the flat-area solve (4; 3 gave a tuning mean of
+        2.618 against 2.604).
+    edge_low : float
+        A 3x3 input range below ``edge_low * sigma`` counts as flat (6): with
+        Gaussian noise, the range of 9 samples is about 3 sigma, so only
+        real depth steps pass 6 sigma. 2 and 4 kept more noise on Park
+        (Park and ToF tuning mean 3.19 / 3.04 / 2.97 for 2 / 4 / 6).
+    edge_width : float
+        The flat / edge blend ramps over ``edge_width * sigma`` above
+        ``edge_low * sigma`` (4; 2 gave 2.97, 4 gave 2.67 on the tuning mean).
+    flat_noise : float
+        Noise (levels of the depth range) below which the flat-area solve
+        and the denoised fallback fade out (2). On a noise-free step the
+        flat solve spread the mixed edge pixel over the whole flat side
+        (42.5 instead of 40); the tuning mean moved 2.640 / 2.639 / 2.637
+        for 0.5 / 1 / 2.
+    trust : bool
+        Measure how far the guide can be trusted, per region, and fall back
+        towards plain interpolation where it cannot (True). It made the
+        real-ToF self-benchmark better at every cell (``realtof``,
+        ``docs/bench.md``).
+    trust_radius : int
+        Half-size of the trust regions, low-resolution pixels (4). 2 and 8
+        gave the same scores within 1 %.
+    hole_margin : int
+        Guided detail is not trusted within this many low-resolution pixels
+        of a missing input pixel (2), where the withheld input cannot check
+        it: on the Azure Kinect self-benchmark (holes at object outlines)
+        x4 went 21.5 / 20.8 / 20.3 mm for 0 / 1 / 2, bicubic 20.8; on the
+        simulated ToF tuning scenes (dropouts on dark surfaces) it cost 1-3 %.
+    trust_prior : float
+        The prior "trust the guide" of each region's fit, as a guided detail
+        of this many levels of the depth range (1): where the detail is much
+        weaker the fit is noise and the guide is trusted. A prior relative to
+        the image's own mean detail (tried first) kept the trust near 0.5 on
+        a uniformly textured guide (checkerboard over a smooth surface: RMSE
+        0.67 against bicubic 0.16); in levels it falls to 0.1 there (0.17).
+        0.5 / 1 / 2 levels gave the same tuning mean within 0.001.
+    trust_floor : float
+        Trust shares below this count as none and the rest is stretched to
+        [0, 1] (0.1): a textured guide leaves a small spurious trust
+        everywhere. 0.2 cost 0.6 % on the tuning mean and 5 % on the Kinect.
+    """
+
+    iterations: int = 6
+    lambda_lr: float = 0.03
+    sigma_color: float = 4.0
+    noise_ref: float = 1.0
+    flat_lambda_lr: float = 32.0
+    flat_sigma_color: float = 4.0
+    edge_low: float = 6.0
+    edge_width: float = 4.0
+    flat_noise: float = 2.0
+    trust: bool = True
+    trust_radius: int = 4
+    hole_margin: int = 2
+    trust_prior: float = 1.0
+    trust_floor: float = 0.1
+
+    def __post_init__(self) -> None:
+        check_int("iterations", self.iterations, minimum=1)
+        check_int("trust_radius", self.trust_radius, minimum=1)
+        check_int("hole_margin", self.hole_margin, minimum=0)
+        for name in ("lambda_lr", "sigma_color", "noise_ref", "flat_lambda_lr", "flat_sigma_color", "edge_width",
+                     "flat_noise"):
+            check_number(name, getattr(self, name), positive=True)
+        for name in ("edge_low", "trust_prior"):
+            check_number(name, getattr(self, name), nonnegative=True)
+        if not 0 <= check_number("trust_floor", self.trust_floor) < 1:
+            raise ValueError(f"trust_floor must be in [0, 1); got {self.trust_floor}.")
+        if not isinstance(self.trust, (bool, np.bool_)):
+            raise TypeError(f"trust must be True or False; got {self.trust!r}.")
+
+
+#: RMS of a standard normal variable clipped at +-2.5 (the noise estimate's correction).
+_CLIPPED_RMS = 0.9542
+#: Clip level of the noise estimate, in standard deviations.
+_CLIP = 2.5
+
+
+def estimate_noise(depth: np.ndarray, valid: np.ndarray) -> float:
+    """Noise standard deviation of a depth map, in its units, from its finest diagonal Haar band.
+
+    The band ``(a - b - c + d) / 2`` of each 2x2 block with four valid pixels
+    has the noise's standard deviation and almost no signal on smooth
+    surfaces. Its RMS is taken after clipping at 2.5 times the current
+    estimate (five rounds), so depth edges do not count as noise, and
+    corrected for the clipping. The median absolute value (Donoho 1994) is
+    not used because quantised maps make it jump between few values.
+
+    Parameters
+    ----------
+    depth : (h, w) float ndarray
+        Depth, invalid pixels already filled.
+    valid : (h, w) bool ndarray
+        Pixels that hold a measurement.
+
+    Returns
+    -------
+    float
+        0.0 when fewer than 16 blocks are fully valid.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> noisy = (100 + rng.normal(0, 3, (200, 200))).astype(np.float32)
+    >>> round(estimate_noise(noisy, np.ones(noisy.shape, bool)), 1)
+    3.0
+    """
+    h, w = (depth.shape[0] // 2) * 2, (depth.shape[1] // 2) * 2
+    d = depth[:h, :w].astype(np.float64)
+    band = (d[0::2, 0::2] - d[0::2, 1::2] - d[1::2, 0::2] + d[1::2, 1::2]) / 2.0
+    v = valid[:h, :w]
+    ok = v[0::2, 0::2] & v[0::2, 1::2] & v[1::2, 0::2] & v[1::2, 1::2]
+    coef = band[ok]
+    if coef.size < 16:
+        return 0.0
+    sigma = math.sqrt(float(np.mean(coef * coef)))
+    for _ in range(5):
+        kept = coef[np.abs(coef) <= _CLIP * sigma]
+        if kept.size == 0:
+            return 0.0
+        sigma = math.sqrt(float(np.mean(kept * kept))) / _CLIPPED_RMS
+    return sigma
+
+
+def _resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.ndarray:
+    import cv2
+
+    return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
+
+
+def block_mean_valid(depth: np.ndarray, factor: int) -> np.ndarray:
+    """Mean of the valid (finite) pixels of each ``factor x factor`` block; NaN where none is.
+
+    Rows and columns beyond a multiple of ``factor`` are dropped. No invalid
+    pixel is averaged in: a block's mean is over its valid pixels only.
+
+    Examples
+    --------
+    >>> block_mean_valid(np.array([[1, np.nan, 5, 5], [3, np.nan, 5, 5]], np.float32), 2).tolist()
+    [[2.0, 5.0]]
+    """
+    h, w = depth.shape[0] // factor, depth.shape[1] // factor
+    x = depth[: h * factor, : w * factor]
+    valid = np.isfinite(x)
+    total = np.where(valid, x, 0).reshape(h, factor, w, factor).sum(axis=(1, 3), dtype=np.float64)
+    count = valid.reshape(h, factor, w, factor).sum(axis=(1, 3))
+    out = np.full((h, w), np.nan, np.float32)
+    np.divide(total, count, out=out, where=count > 0, casting="unsafe")
+    return out
+
+
+def _span(filled: np.ndarray, valid: np.ndarray) -> float:
+    """The depth range the noise is measured against: 1st to 99th percentile of the valid pixels."""
+    low, high = np.percentile(filled[valid], [1, 99])
+    return float(high - low) if high > low else max(abs(float(filled.max())), 1.0)
+
+
+def _noise_levels(filled: np.ndarray, valid: np.ndarray) -> float:
+    """The input's noise in 8-bit levels of its own depth range (unit-free)."""
+    return 255.0 * estimate_noise(filled, valid) / _span(filled, valid)
+
+
+def _noise_share(sigma_levels: float, p: GbpParams) -> float:
+    """0 for a noise-free input, rising to 1 at ``flat_noise`` levels of noise."""
+    return min(1.0, sigma_levels / p.flat_noise)
+
+
+def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
+                     progress: Progress | None = None) -> np.ndarray:
+    """Steps 1-3: back-projected, edge-aware detail blended with the flat-area solve.
+
+    ``depth`` is float32 with NaN for invalid pixels (at least one valid);
+    ``guide`` is the (H, W, 3) uint8 color image. Returns (H, W) float32,
+    clipped to the valid range of ``depth``.
+    """
+    import cv2
+
+    fgs = cv2.ximgproc.fastGlobalSmootherFilter
+    valid = np.isfinite(depth)
+    filled = fill_invalid_nearest(depth)
+    lo, hi = float(filled.min()), float(filled.max())
+    (h, w), (H, W) = depth.shape, guide.shape[:2]
+    s = 0.5 * (H / h + W / w)
+    span = _span(filled, valid)
+    sigma = estimate_noise(filled, valid)
+    sigma_levels = 255.0 * sigma / span
+
+    lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2)
+    x = _resize(filled, (H, W), cv2.INTER_CUBIC)
+    for k in range(p.iterations):
+        residual = filled - _resize(x, (h, w), cv2.INTER_AREA)
+        residual[~valid] = 0.0
+        x += _resize(residual, (H, W), cv2.INTER_CUBIC)
+        x = fgs(guide, x, lam, p.sigma_color)
+        np.clip(x, lo, hi, out=x)
+        if progress is not None:
+            progress(k + 1, p.iterations + 1)
+
+    flat = fgs(guide, _resize(filled, (H, W), cv2.INTER_LINEAR), p.flat_lambda_lr * s, p.flat_sigma_color)
+    kernel = np.ones((3, 3), np.uint8)
+    local_range = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel)
+    edge = np.clip((local_range - p.edge_low * sigma) / (p.edge_width * sigma + 1e-6 * span), 0.0, 1.0)
+    edge = cv2.dilate(edge.astype(np.float32), kernel)
+    # a noise-free input has nothing to average away: the flat solve's share fades out below flat_noise
+    edge = 1.0 - (1.0 - edge) * _noise_share(sigma_levels, p)
+    edge = _resize(edge, (H, W), cv2.INTER_LINEAR)
+    # x <- edge * x + (1 - edge) * flat, in place
+    x -= flat
+    x *= edge
+    x += flat
+    return np.clip(x, lo, hi, out=x)
+
+
+def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None = None) -> np.ndarray:
+    """How far the guided detail can be trusted, per low-resolution pixel, in [0, 1] (step 4).
+
+    The input is reduced x2 (mean of the valid pixels of each 2x2 block), the
+    guided estimate is computed from it with the guide resized (area) to the
+    input's grid, and in each window of ``2 * trust_radius + 1`` pixels the
+    share ``a`` of its guided detail ``g - b`` (``b``: bicubic enlargement of
+    ``g`` reduced x2) that best explains the withheld input ``y`` is fitted
+    by least squares, ``a = (sum (y - b)(g - b) + e) / (sum (g - b)**2 + e)``
+    on valid pixels, with the prior ``e = (trust_prior * range / 255)**2``
+    per pixel (``range``: the input's 1st to 99th percentile), clipped to
+    [0, 1], set to 0 within ``hole_margin`` pixels of a missing input pixel,
+    and smoothed over the same window.
+
+    Parameters
+    ----------
+    depth : (h, w) float32 ndarray
+        The input, NaN where invalid.
+    guide : (H, W, 3) uint8 ndarray
+        The color image.
+    params : GbpParams, optional
+
+    Returns
+    -------
+    (h, w) float32 ndarray
+        1 everywhere when the input is too small to reduce (under 8 pixels
+        on a side).
+    """
+    import cv2
+
+    p = GbpParams() if params is None else params
+    h, w = depth.shape
+    trust = np.ones((h, w), np.float32)
+    small = block_mean_valid(depth, 2)
+    if min(small.shape) < 4 or not np.isfinite(small).any():
+        return trust
+    hc, wc = small.shape[0] * 2, small.shape[1] * 2
+    guide_lr = np.ascontiguousarray(_resize(guide, (h, w), cv2.INTER_AREA)[:hc, :wc])
+    g = _guided_estimate(small, guide_lr, p)
+    b = _resize(_resize(g, small.shape, cv2.INTER_AREA), (hc, wc), cv2.INTER_CUBIC)
+    valid = np.isfinite(depth[:hc, :wc])
+    y = np.where(valid, depth[:hc, :wc], b)
+    detail = np.where(valid, g - b, 0).astype(np.float32)
+    explained = np.where(valid, y - b, 0).astype(np.float32)
+    size = (2 * p.trust_radius + 1,) * 2
+    num = cv2.boxFilter(explained * detail, -1, size, borderType=cv2.BORDER_REFLECT)
+    den = cv2.boxFilter(detail * detail, -1, size, borderType=cv2.BORDER_REFLECT)
+    span = float(np.nanmax(depth) - np.nanmin(depth))
+    prior = (p.trust_prior * span / 255.0) ** 2 + 1e-30
+    trust[:hc, :wc] = np.clip((num + prior) / (den + prior), 0.0, 1.0)
+    trust[hc:, :] = trust[hc - 1:hc, :]
+    trust[:, wc:] = trust[:, wc - 1:wc]
+    holes = ~np.isfinite(depth)
+    if p.hole_margin > 0 and holes.any():
+        near = cv2.dilate(holes.astype(np.uint8), np.ones((2 * p.hole_margin + 1,) * 2, np.uint8)) > 0
+        trust[near] = 0.0
+    return cv2.boxFilter(trust, -1, size, borderType=cv2.BORDER_REFLECT)
+
+
+def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams | None = None,
+                 progress: Progress | None = None) -> np.ndarray:
+    """Guided back-projection: upsample ``depth_lr`` to the grid of ``rgb_hr`` (see the module docstring).
+
+    Parameters
+    ----------
+    depth_lr : (h, w) ndarray
+        Low-resolution depth, any units; 0/NaN/inf/negative = no measurement.
+    rgb_hr : (H, W, 3) ndarray
+        Registered color image (RGB; uint8, uint16 or float in [0, 1]), at
+        any factor (integer or not) of the depth map.
+    params : GbpParams, optional
+    progress : callable, optional
+        ``progress(done, total)`` after each back-projection round and at the end.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        Depth in the units of ``depth_lr``, within its valid range.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Wrong params type, bad arrays, or no valid depth pixel.
+
+    Examples
+    --------
+    >>> out = upsample_gbp(np.full((8, 8), 7.0, np.float32), np.zeros((32, 32, 3), np.uint8))
+    >>> out.shape, float(out.min()), float(out.max())
+    ((32, 32), 7.0, 7.0)
+    """
+    import cv2
+
+    p = GbpParams() if params is None else params
+    if not isinstance(p, GbpParams):
+        raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
+    guide = _guide8(check_rgb(rgb_hr))
+    depth = as_depth(depth_lr)
+    (h, w), (H, W) = depth.shape, guide.shape[:2]
+    result = _guided_estimate(depth, guide, p, progress)
+    if p.trust:
+        trust = guide_trust(depth, guide, p)
+        if p.trust_floor > 0:
+            trust = np.clip((trust - p.trust_floor) / (1.0 - p.trust_floor), 0.0, 1.0)
+        trust = _resize(trust, (H, W), cv2.INTER_LINEAR)
+        # the fallback: bicubic enlargement of the result's own reduction, moved towards the input itself as
+        # far as the input is noise-free (there is nothing to average away then)
+        filled = fill_invalid_nearest(depth)
+        valid = np.isfinite(depth)
+        reduced = _resize(result, (h, w), cv2.INTER_AREA)
+        share = _noise_share(_noise_levels(filled, valid), p)
+        reduced = np.where(valid, reduced + (1.0 - share) * (filled - reduced), reduced).astype(np.float32)
+        base = _resize(reduced, (H, W), cv2.INTER_CUBIC)
+        # result <- base + trust * (result - base), in place
+        result -= base
+        result *= trust
+        result += base
+        lo, hi = float(np.nanmin(depth)), float(np.nanmax(depth))
+        np.clip(result, lo, hi, out=result)
+    if progress is not None:
+        progress(p.iterations + 1, p.iterations + 1)
+    return result.astype(np.float32, copy=False)

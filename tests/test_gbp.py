@@ -1,0 +1,256 @@
+"""Guided back-projection (``gbp``, the default method): behaviour on small synthetic scenes, and realtof."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+import depthrefine
+from depthrefine import GbpParams
+from depthrefine.bench.synthetic import make_scene
+from depthrefine.evaluate import rmse
+from depthrefine.methods.gbp import block_mean_valid, estimate_noise, guide_trust, upsample_gbp
+
+from conftest import shared_data_path
+
+
+def _area(depth_hr: np.ndarray, s: int) -> np.ndarray:
+    """The footprint mean of each s x s block (a ToF pixel's integration)."""
+    h, w = depth_hr.shape[0] // s, depth_hr.shape[1] // s
+    return depth_hr[: h * s, : w * s].reshape(h, s, w, s).mean(axis=(1, 3)).astype(np.float32)
+
+
+def _bicubic(depth_lr, rgb):
+    return depthrefine.refine(depth_lr, rgb, method="bicubic")
+
+
+def _step(rows=48, cols=64, s=4, edge_col=29):
+    """Depth 40 | 200 with the color edge at ``edge_col`` (not on the depth grid), color black | white."""
+    gt = np.where(np.arange(cols)[None, :] < edge_col, 40.0, 200.0).repeat(rows, axis=0).astype(np.float32)
+    rgb = np.zeros((rows, cols, 3), np.uint8)
+    rgb[:, edge_col:] = 255
+    return gt, rgb, _area(gt, s)
+
+
+def test_it_is_the_default_and_registered():
+    assert depthrefine.DEFAULT_METHOD == "gbp"
+    entry = depthrefine.get_method("gbp")
+    assert entry.func is upsample_gbp and entry.params_type is GbpParams and entry.guided and entry.interpolating
+
+
+@pytest.mark.parametrize("edge_col", [29, 31])
+def test_a_step_edge_lands_on_the_color_edge(edge_col):
+    gt, rgb, depth_lr = _step(edge_col=edge_col)
+    out = depthrefine.refine(depth_lr, rgb)
+    bicubic = _bicubic(depth_lr, rgb)
+    # In every row the step from 40 to 200 is crossed exactly at the color edge ...
+    assert (out[:, :edge_col] < 120).all() and (out[:, edge_col:] > 120).all()
+    # ... and the surfaces are flat on both sides, away from the mixed input pixel at the edge
+    assert np.abs(out[:, : edge_col - 4] - 40).max() < 1.0 and np.abs(out[:, edge_col + 4:] - 200).max() < 1.0
+    band = slice(edge_col - 6, edge_col + 6)
+    assert rmse(out[:, band], gt[:, band]) < 0.5 * rmse(bicubic[:, band], gt[:, band])
+
+
+def test_a_constant_stays_constant(rng):
+    texture = rng.integers(0, 256, (64, 80, 3)).astype(np.uint8)
+    for value, dtype in ((77, np.uint8), (1234, np.uint16), (2.5, np.float32)):
+        out = depthrefine.refine(np.full((16, 20), value, dtype), texture)
+        assert out.dtype == np.float32 and (out == np.float32(value)).all()
+
+
+def test_a_plane_stays_a_plane(rng):
+    rows, cols, s = 64, 96, 4
+    yy, xx = np.mgrid[0:rows, 0:cols].astype(np.float32)
+    plane = 50 + 0.3 * xx + 0.2 * yy
+    depth_lr = _area(plane, s)
+    texture = rng.integers(0, 256, (rows, cols, 3)).astype(np.uint8)
+    for guide in (np.zeros((rows, cols, 3), np.uint8), texture):
+        out = depthrefine.refine(depth_lr, guide)
+        inner = (slice(s, -s), slice(s, -s))
+        # within a small fraction of a level inside, and never off by a level at the border
+        assert np.abs(out - plane)[inner].max() < 0.25, np.abs(out - plane)[inner].max()
+        assert np.abs(out - plane).max() < 1.0
+        assert rmse(out, plane) <= rmse(_bicubic(depth_lr, guide), plane) * 1.2 + 1e-3
+
+
+@pytest.mark.parametrize("invalid", [0, np.nan])
+def test_holes_never_leak(invalid):
+    """A missing pixel is never averaged in: next to a hole the result keeps the surface's depth."""
+    gt, rgb, depth_lr = _step()
+    holes = depth_lr.copy()
+    holes[4:8, 2:6] = invalid   # inside the near surface (40)
+    holes[:, 12] = invalid      # a whole column of the far surface (200)
+    out = depthrefine.refine(holes, rgb)
+    assert np.isfinite(out).all() and out.min() >= 40 and out.max() <= 200
+    # a 0 averaged in would pull the result far below the near surface (40); it stays within a level of
+    # the result without holes, which is exactly the surface away from the edge
+    whole = depthrefine.refine(depth_lr, rgb)
+    assert np.abs(out - whole)[:, :24].max() < 1.0 and np.abs(out - whole)[:, 36:].max() < 1.0
+    assert np.abs(whole[:, :16] - 40).max() < 0.05 and np.abs(whole[:, 40:] - 200).max() < 0.05
+    # 0 in an integer map means the same as NaN
+    as_u8 = np.nan_to_num(holes, nan=0).round().astype(np.uint8)
+    np.testing.assert_array_equal(depthrefine.refine(as_u8, rgb), depthrefine.refine(np.where(as_u8 == 0, np.nan, as_u8.astype(np.float32)), rgb))
+
+
+def test_clean_and_noisy_versions_of_one_scene_both_improve_on_bicubic(rng):
+    scene = make_scene((96, 128), 4, n_objects=3, seed=5, shading=0.1, color_noise_std=3.0)
+    gt = scene.depth_hr_gt
+    clean = _area(gt, 4)
+    noisy = (clean + rng.normal(0, 3.0, clean.shape)).astype(np.float32)
+    for depth_lr, need in ((clean, 0.8), (noisy, 0.8)):
+        ours, bicubic = rmse(depthrefine.refine(depth_lr, scene.rgb_hr), gt), rmse(_bicubic(depth_lr, scene.rgb_hr), gt)
+        assert ours < need * bicubic, (ours, bicubic)
+
+
+def _smooth_and_textures(rng):
+    rows, cols = 96, 128
+    yy, xx = np.mgrid[0:rows, 0:cols].astype(np.float32)
+    smooth = 120 + 30 * np.sin(xx / 23.0) * np.cos(yy / 31.0)
+    textures = {
+        "noise": rng.integers(0, 256, (rows, cols, 3)).astype(np.uint8),
+        "checkerboard": np.where(((xx // 6 + yy // 6) % 2)[..., None] > 0, 230, 20).astype(np.uint8).repeat(3, 2),
+        "stripes": np.where((np.sin(xx / 3.0) > 0)[..., None], 200, 40).astype(np.uint8).repeat(3, 2),
+    }
+    return smooth, textures
+
+
+def test_a_guide_of_pure_texture_over_a_smooth_depth_is_no_worse_than_bicubic(rng):
+    smooth, textures = _smooth_and_textures(rng)
+    depth_lr = _area(smooth, 4)
+    texture = textures["noise"]
+    ours, bicubic = rmse(depthrefine.refine(depth_lr, texture), smooth), rmse(_bicubic(depth_lr, texture), smooth)
+    assert ours <= bicubic, (ours, bicubic)
+
+
+@pytest.mark.parametrize("name", ["checkerboard", "stripes"])
+def test_the_guide_trust_undoes_most_of_the_harm_of_a_structured_texture(rng, name):
+    """Strong texture edges over a smooth surface: the guided estimate copies them; the trust takes most back.
+
+    Measured (RMSE, levels): checkerboard 1.13 without the trust, 0.168 with it, bicubic 0.163; stripes
+    0.57 / 0.22 / 0.163. These two stay a few hundredths of a level worse than bicubic (docs/bench.md).
+    """
+    smooth, textures = _smooth_and_textures(rng)
+    depth_lr, texture = _area(smooth, 4), textures[name]
+    ours = rmse(depthrefine.refine(depth_lr, texture), smooth)
+    untrusted = rmse(depthrefine.refine(depth_lr, texture, params=GbpParams(trust=False)), smooth)
+    bicubic = rmse(_bicubic(depth_lr, texture), smooth)
+    assert ours < 0.4 * untrusted and ours < 1.5 * bicubic, (ours, untrusted, bicubic)
+
+
+def test_the_guide_trust_falls_where_the_guide_disagrees(rng):
+    rows, cols, s = 96, 128, 4
+    yy, xx = np.mgrid[0:rows, 0:cols].astype(np.float32)
+    smooth = 120 + 30 * np.sin(xx / 23.0) * np.cos(yy / 31.0)
+    depth = _area(smooth, s)
+    stripes = np.where((np.sin(xx / 3.0) > 0)[..., None], 200, 40).astype(np.uint8).repeat(3, 2)
+    gt, rgb, step = _step(96, 128, 4, edge_col=61)
+    assert guide_trust(step, rgb).mean() > 0.9          # color edge = depth edge
+    assert guide_trust(depth, stripes).mean() < guide_trust(step, rgb).mean()
+
+
+def test_deterministic_and_input_untouched(small_scene):
+    depth = small_scene.depth_lr.copy()
+    a = depthrefine.refine(depth, small_scene.rgb_hr)
+    b = depthrefine.refine(depth, small_scene.rgb_hr)
+    assert a.tobytes() == b.tobytes()
+    np.testing.assert_array_equal(depth, small_scene.depth_lr)
+
+
+def test_units_do_not_matter(small_scene):
+    """The same scene in levels and in 1000x the units gives 1000x the result (noise is relative to the range)."""
+    depth = small_scene.depth_lr.astype(np.float32)
+    a = depthrefine.refine(depth, small_scene.rgb_hr)
+    b = depthrefine.refine(depth * 1000, small_scene.rgb_hr)
+    np.testing.assert_allclose(b, a * 1000, rtol=1e-4, atol=1e-2)
+
+
+def test_non_integer_ratio_and_float_guide(small_scene):
+    rgb = cv2.resize(small_scene.rgb_hr, (70, 70), interpolation=cv2.INTER_AREA)   # ratio 4.375
+    out = depthrefine.refine(small_scene.depth_lr, rgb)
+    assert out.shape == (70, 70) and np.isfinite(out).all()
+    as_float = depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr.astype(np.float32) / 255)
+    np.testing.assert_array_equal(as_float, depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr))
+
+
+def test_progress_reaches_its_total(small_scene):
+    calls = []
+    depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr, progress=lambda d, t: calls.append((d, t)))
+    assert calls[-1][0] == calls[-1][1] == GbpParams().iterations + 1
+
+
+def test_noise_estimate_and_block_mean():
+    rng = np.random.default_rng(1)
+    plane = np.add.outer(np.arange(120.0), np.arange(160.0)) * 0.5 + 100
+    for sigma in (0.0, 1.0, 5.0):
+        noisy = (plane + rng.normal(0, sigma, plane.shape)).astype(np.float32)
+        assert abs(estimate_noise(noisy, np.ones(plane.shape, bool)) - sigma) < 0.1 * sigma + 0.01
+    d = np.array([[1, np.nan, 4, 4, 9], [3, 2, 4, 4, 9], [np.nan, np.nan, 1, 1, 9], [np.nan, np.nan, 1, 1, 9]],
+                 np.float32)
+    np.testing.assert_array_equal(block_mean_valid(d, 2), np.array([[2, 4], [np.nan, 1]], np.float32))
+
+
+@pytest.mark.parametrize("bad, error", [
+    ({"iterations": 0}, ValueError), ({"lambda_lr": -1.0}, ValueError), ({"trust": "yes"}, TypeError),
+    ({"trust_radius": 1.5}, TypeError), ({"edge_low": float("nan")}, ValueError),
+])
+def test_params_are_checked(bad, error):
+    with pytest.raises(error):
+        GbpParams(**bad)
+
+
+def test_without_trust_it_is_the_guided_estimate(small_scene):
+    a = depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr, params=GbpParams(trust=False))
+    b = depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr)
+    assert a.shape == b.shape and not np.array_equal(a, b)
+
+
+def test_cli_thesis_options_need_method_thesis(tmp_path, capsys, small_scene):
+    from depthrefine.cli import main
+
+    depth, color = tmp_path / "d.png", tmp_path / "c.png"
+    cv2.imwrite(str(depth), small_scene.depth_lr)
+    cv2.imwrite(str(color), small_scene.rgb_hr[..., ::-1])
+    assert main(["refine", str(depth), str(color), "-o", str(tmp_path / "o.png"), "--patches", "2x2"]) == 2
+    assert "add --method thesis" in capsys.readouterr().err and not (tmp_path / "o.png").exists()
+    assert main(["refine", str(depth), str(color), "-o", str(tmp_path / "o.png")]) == 0
+
+
+# ----------------------------------------------------------------- the realtof protocol (shared data)
+
+def test_realtof_cases_follow_the_protocol():
+    from depthrefine.bench.protocols import load_cases
+
+    data = shared_data_path("real_tof")
+    notes: list[str] = []
+    cases = load_cases(data.parent, "realtof", (4, 8, 16), notes=notes)
+    assert sorted((c.scene, c.scale) for c in cases) == [("iphone", 4), ("iphone", 8), ("kinect", 4), ("kinect", 8)]
+    assert all("x16" in n and "x4 and x8" in n for n in notes) and len(notes) == 2
+    for c in cases:
+        assert c.rgb_hr.shape[:2] == c.depth_gt.shape and c.rgb_hr.dtype == np.uint8 and c.split == "test"
+        assert c.depth_lr.shape == (c.depth_gt.shape[0] // c.scale, c.depth_gt.shape[1] // c.scale)
+        # the input is the mean of each block's valid target pixels, 0 where none is valid
+        gt = c.depth_gt
+        i, j = np.argwhere(c.depth_lr > 0)[len(np.argwhere(c.depth_lr > 0)) // 2]
+        block = gt[i * c.scale:(i + 1) * c.scale, j * c.scale:(j + 1) * c.scale]
+        assert c.depth_lr[i, j] == pytest.approx(np.nanmean(block), rel=1e-5)
+        empty = np.isnan(gt).reshape(gt.shape[0] // c.scale, c.scale, -1, c.scale).all(axis=(1, 3))
+        assert ((c.depth_lr == 0) == empty).all()
+    iphone = next(c for c in cases if c.scene == "iphone")
+    kinect = next(c for c in cases if c.scene == "kinect")
+    assert iphone.depth_gt.shape == (192, 256) and kinect.depth_gt.shape == (576, 640)
+    assert np.isnan(kinect.depth_gt).mean() > 0.2 and not np.isnan(iphone.depth_gt).any()
+    assert (kinect.rgb_hr[..., 0] == kinect.rgb_hr[..., 1]).all()        # IR: gray
+
+
+def test_realtof_do_no_harm_the_default_beats_bicubic_on_real_captures():
+    """On real ToF (target = real depth), the default method is below bicubic's RMSE in every cell."""
+    from depthrefine.bench import run_benchmark
+    from depthrefine.bench.protocols import load_cases
+
+    data = shared_data_path("real_tof")
+    cases = load_cases(data.parent, "realtof", (4, 8))
+    rows = run_benchmark(cases, ["bicubic", "gbp"]).rows
+    score = {(r.scene, r.scale, r.method): r.rmse for r in rows}
+    for scene, scale in {(r.scene, r.scale) for r in rows}:
+        assert score[scene, scale, "gbp"] < score[scene, scale, "bicubic"], (scene, scale, score)
