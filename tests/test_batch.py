@@ -85,11 +85,11 @@ def run_batch(client, *args) -> int:
 
 def test_refine_many_is_bit_identical_to_refine_and_keeps_input_order(cluster, frames):
     pairs = [(f"f{i}", f.depth_lr, f.rgb_hr) for i, f in enumerate(frames)]
-    got = list(refine_many(pairs, params=PARAMS, client=cluster))
+    got = list(refine_many(pairs, method="thesis", params=PARAMS, client=cluster))
     assert [k for k, _ in got] == [k for k, _, _ in pairs]
     for (_, depth, rgb), (_, out) in zip(pairs, got):
         assert out.dtype == np.float32
-        assert np.array_equal(out, refine(depth, rgb, params=PARAMS))
+        assert np.array_equal(out, refine(depth, rgb, method="thesis", params=PARAMS))
 
 
 def test_refine_many_takes_a_mapping(cluster, frames):
@@ -101,14 +101,14 @@ def test_refine_many_takes_a_mapping(cluster, frames):
 
 def test_temporal_warm_start_equals_the_sequential_loop_chunk_by_chunk(cluster, frames):
     pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(frames)]
-    got = dict(refine_many(pairs, params=PARAMS, client=cluster, temporal=True, chunk=4))
+    got = dict(refine_many(pairs, method="thesis", params=PARAMS, client=cluster, temporal=True, chunk=4))
     stateful = get_method("thesis").refine_stateful
     for start in (0, 4):  # chunks [0..3] and [4, 5]: each starts cold
         state = None
         for i in range(start, min(start + 4, len(frames))):
             want, state = stateful(frames[i].depth_lr, frames[i].rgb_hr, params=PARAMS, state=state)
             assert np.array_equal(got[i], want), i
-        assert np.array_equal(got[start], refine(frames[start].depth_lr, frames[start].rgb_hr, params=PARAMS))
+        assert np.array_equal(got[start], refine(frames[start].depth_lr, frames[start].rgb_hr, method="thesis", params=PARAMS))
 
 
 def test_temporal_without_a_stateful_method_runs_frames_independently(cluster, frames):
@@ -129,7 +129,7 @@ def test_refine_many_raises_for_a_bad_frame_naming_it(cluster, frames):
 def test_the_thesis_warm_start_lowers_flicker_on_a_moving_object():
     """Measured on a generated sequence; the benchmark reports the figures (benchmarks/bench_batch.py)."""
     seq = make_sequence(8, (64, 96), 4, seed=2, color_noise_std=10.0)
-    cold = [refine(f.depth_lr, f.rgb_hr) for f in seq]
+    cold = [refine(f.depth_lr, f.rgb_hr, method="thesis") for f in seq]
     warm, state = [], None
     for f in seq:
         out, state = get_method("thesis").refine_stateful(f.depth_lr, f.rgb_hr, params=None, state=state)
@@ -147,7 +147,7 @@ def test_the_thesis_warm_start_lowers_flicker_on_a_moving_object():
 def test_folder_batch_writes_every_frame_like_refine(cluster, frames, tmp_path, capsys):
     src = write_folder(tmp_path / "seq", frames)
     out = tmp_path / "out"
-    assert run_batch(cluster, src, "-o", out, "--patches", "2x2") == 0
+    assert run_batch(cluster, src, "-o", out, "--method", "thesis", "--patches", "2x2") == 0
     for i, f in enumerate(frames):
         written = read_depth(out / f"{i:04d}.png")
         assert written.dtype == np.uint16
@@ -204,7 +204,7 @@ def test_a_second_run_skips_done_frames_and_rewrites_none(cluster, frames, tmp_p
 def test_temporal_resume_recomputes_the_chunk_start_but_writes_only_missing_frames(cluster, frames, tmp_path):
     src = write_folder(tmp_path / "seq", frames)
     out = tmp_path / "out"
-    args = (src, "-o", out, "--temporal", "--chunk", "3", "--patches", "2x2")
+    args = (src, "-o", out, "--temporal", "--chunk", "3", "--method", "thesis", "--patches", "2x2")
     assert run_batch(cluster, *args) == 0
     full = {p.name: read_depth(p) for p in out.glob("[0-9]*.png")}
     (out / "0001.png").unlink()
