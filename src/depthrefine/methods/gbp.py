@@ -16,7 +16,9 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    the residual ``y - D(x)`` (``D``: the mean over each pixel's footprint,
    the integration a ToF pixel does), then smooth with OpenCV-contrib's fast
    global smoother (weighted least squares, Min et al. 2014) guided by the
-   color image, with a strength that grows with ``sigma**2``; clip to the
+   color image, with a strength that grows with ``sigma**2`` and falls
+   geometrically over the rounds (``lambda_first`` to ``lambda_last``: early
+   rounds place the edges, late ones keep the detail); clip to the
    input's range. The residual is zero at invalid input pixels, so they never
    pull the result.
 3. **Flat areas.** Where the input shows no depth edge above the noise (its
@@ -33,7 +35,9 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    the guided detail (the result minus the bicubic enlargement of its own
    reduction) agrees with the withheld input, in [0, 1], with a prior towards
    trust where the detail is weaker than ``trust_prior`` levels, no trust
-   next to missing input pixels, and shares below ``trust_floor`` counted as
+   next to missing input pixels nor away from a depth jump of the input
+   (a curvature above the noise, ``jump_levels``: a guide's edges over a
+   smooth surface are texture), and shares below ``trust_floor`` counted as
    none. The full-resolution result keeps that share of its guided detail
    and falls back to plain bicubic interpolation elsewhere: of the input
    itself when it is noise-free, of the result's own (denoised) reduction
@@ -87,9 +91,17 @@ class GbpParams:
     Attributes
     ----------
     iterations : int
-        Back-projection rounds (6). In a first version of this method the
+        Back-projection rounds (8). In a first version of this method the
         tuning-scene mean RMSE went 2.66 / 2.63 / 2.61 for 3 / 4 / 6 rounds;
         each round costs one smoother pass (30-60 ms at 1.5 Mpx here).
+    lambda_first, lambda_last : float
+        The detail solve's smoothing falls geometrically over the rounds,
+        from ``lambda_first`` to ``lambda_last`` times its nominal value
+        (6 and 0.35): early rounds place the edges, late ones keep the
+        detail. Tuning-scene mean RMSE (Park, Middlebury, ToF, x4/x8/x16)
+        2.737 with a constant value and 6 rounds, 2.710 with 10 rounds,
+        2.674 / 2.665 / 2.658 for 4 -> 0.5 / 6 -> 0.35 (8 rounds) / 8 -> 0.25
+        (10 rounds); every cell improved with 6 -> 0.35.
     lambda_lr : float
         Smoothness of the detail solve on a noise-free input, per squared
         low-resolution pixel (0.03). On the clean tuning scenes 0.03 to 0.12
@@ -155,9 +167,23 @@ class GbpParams:
         Trust shares below this count as none and the rest is stretched to
         [0, 1] (0.1): a textured guide leaves a small spurious trust
         everywhere. 0.2 cost 0.6 % on the tuning mean and 5 % on the Kinect.
+    jump_levels, jump_noise : float
+        Guided detail is trusted only near a depth jump of the input: where
+        the absolute 4-neighbour Laplacian of the input exceeds
+        ``jump_noise * sigma + jump_levels`` levels of its depth range (2
+        and 4), ramping to full trust at twice that, within ``jump_margin``
+        input pixels (2). A smooth surface under a textured guide has no
+        such jump, so its texture is not copied (striped guide over a
+        smooth surface: RMSE 0.277 without this test, 0.167 with it,
+        bicubic 0.163); the tuning mean moved 2.6646 / 2.6646 / 2.6654 for
+        none / 2 / 4 levels, 2.674 with ``jump_noise = 6``.
+    jump_margin : int
+        See ``jump_levels`` (2).
     """
 
-    iterations: int = 6
+    iterations: int = 8
+    lambda_first: float = 6.0
+    lambda_last: float = 0.35
     lambda_lr: float = 0.03
     sigma_color: float = 4.0
     noise_ref: float = 1.0
@@ -171,15 +197,19 @@ class GbpParams:
     hole_margin: int = 2
     trust_prior: float = 1.0
     trust_floor: float = 0.1
+    jump_levels: float = 2.0
+    jump_noise: float = 4.0
+    jump_margin: int = 2
 
     def __post_init__(self) -> None:
         check_int("iterations", self.iterations, minimum=1)
         check_int("trust_radius", self.trust_radius, minimum=1)
         check_int("hole_margin", self.hole_margin, minimum=0)
+        check_int("jump_margin", self.jump_margin, minimum=0)
         for name in ("lambda_lr", "sigma_color", "noise_ref", "flat_lambda_lr", "flat_sigma_color", "edge_width",
-                     "flat_noise"):
+                     "flat_noise", "lambda_first", "lambda_last"):
             check_number(name, getattr(self, name), positive=True)
-        for name in ("edge_low", "trust_prior"):
+        for name in ("edge_low", "trust_prior", "jump_levels", "jump_noise"):
             check_number(name, getattr(self, name), nonnegative=True)
         if not 0 <= check_number("trust_floor", self.trust_floor) < 1:
             raise ValueError(f"trust_floor must be in [0, 1); got {self.trust_floor}.")
@@ -305,10 +335,12 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
     lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2)
     x = _resize(filled, (H, W), cv2.INTER_CUBIC)
     for k in range(p.iterations):
+        # geometric schedule lambda_first -> lambda_last over the rounds
+        ratio = p.lambda_first * (p.lambda_last / p.lambda_first) ** (k / max(1, p.iterations - 1))
         residual = filled - _resize(x, (h, w), cv2.INTER_AREA)
         residual[~valid] = 0.0
         x += _resize(residual, (H, W), cv2.INTER_CUBIC)
-        x = fgs(guide, x, lam, p.sigma_color)
+        x = fgs(guide, x, lam * ratio, p.sigma_color)
         np.clip(x, lo, hi, out=x)
         if progress is not None:
             progress(k + 1, p.iterations + 1)
@@ -340,7 +372,9 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     on valid pixels, with the prior ``e = (trust_prior * range / 255)**2``
     per pixel (``range``: the input's 1st to 99th percentile), clipped to
     [0, 1], set to 0 within ``hole_margin`` pixels of a missing input pixel,
-    and smoothed over the same window.
+    and smoothed over the same window. It is then multiplied by the
+    nearness to a depth jump of the input (``jump_levels``): a guide's
+    edges are trusted only where the input confirms a discontinuity.
 
     Parameters
     ----------
@@ -384,7 +418,29 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     if p.hole_margin > 0 and holes.any():
         near = cv2.dilate(holes.astype(np.uint8), np.ones((2 * p.hole_margin + 1,) * 2, np.uint8)) > 0
         trust[near] = 0.0
-    return cv2.boxFilter(trust, -1, size, borderType=cv2.BORDER_REFLECT)
+    trust = cv2.boxFilter(trust, -1, size, borderType=cv2.BORDER_REFLECT)
+    return trust * _near_jump(depth, p)
+
+
+def _near_jump(depth: np.ndarray, p: GbpParams) -> np.ndarray:
+    """1 near a depth jump of the input, 0 on smooth surfaces (``jump_levels``), per input pixel.
+
+    ``depth`` is (h, w) float32 with NaN for invalid pixels, at least 2 x 2.
+    """
+    import cv2
+
+    valid = np.isfinite(depth)
+    filled = fill_invalid_nearest(depth)
+    span = _span(filled, valid)
+    curvature = np.abs(cv2.Laplacian(filled, cv2.CV_32F, ksize=1))
+    # the reflected border turns a slope into a kink: take the border from the pixels inside
+    curvature[0], curvature[-1] = curvature[1], curvature[-2]
+    curvature[:, 0], curvature[:, -1] = curvature[:, 1], curvature[:, -2]
+    threshold = p.jump_noise * estimate_noise(filled, valid) + p.jump_levels * span / 255.0 + 1e-6 * span
+    jump = np.clip(curvature / threshold - 1.0, 0.0, 1.0).astype(np.float32)
+    if p.jump_margin > 0:
+        jump = cv2.dilate(jump, np.ones((2 * p.jump_margin + 1,) * 2, np.uint8))
+    return cv2.boxFilter(jump, -1, (3, 3))
 
 
 def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams | None = None,
