@@ -7,14 +7,12 @@ All functions are pure: arrays in, new arrays out.
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
-
 import cv2
 import numpy as np
 from scipy import ndimage
 
 from ..._validate import as_rgb_float, check_int
+from .median import median_filter_2d
 
 __all__ = [
     "median_rgb",
@@ -27,6 +25,11 @@ __all__ = [
 ]
 
 
+#: Largest window filtered with the min/max network; beyond it OpenCV's
+#: histogram median (constant time per pixel) is faster.
+NETWORK_MAX_SIZE = 9
+
+
 def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
     """Median filter each of R, G and B separately (thesis 4.3.1).
 
@@ -36,7 +39,9 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         Color image.
     size : int
         Odd side of the square window (thesis: 7). Borders replicate the
-        edge pixel.
+        edge pixel. Integer images up to :data:`NETWORK_MAX_SIZE` use the
+        exact min/max network of :mod:`.median` (the same output as
+        ``cv2.medianBlur``, in about a third of its time at 7x7).
 
     Returns
     -------
@@ -54,38 +59,17 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         raise ValueError(f"median_size must be odd; got {size}.")
     if size == 1:
         return rgb.copy()
-    if rgb.dtype == np.uint8:
-        return _median_uint8_parallel(rgb, size)
-    if size <= 5 and rgb.dtype in (np.uint16, np.float32):
+    if rgb.dtype in (np.uint8, np.uint16) and size <= NETWORK_MAX_SIZE:
+        out = np.empty_like(rgb)
+        channels = [np.ascontiguousarray(rgb[:, :, ch]) for ch in range(rgb.shape[2])]
+        for ch, filtered in enumerate(median_filter_2d(channels, size)):
+            out[:, :, ch] = filtered
+        return out
+    if rgb.dtype == np.uint8 or (size <= 5 and rgb.dtype in (np.uint16, np.float32)):
         return cv2.medianBlur(np.ascontiguousarray(rgb), size)
     out = np.empty_like(rgb)
     for ch in range(rgb.shape[2]):
         ndimage.median_filter(rgb[:, :, ch], size=size, mode="nearest", output=out[:, :, ch])
-    return out
-
-
-def _median_uint8_parallel(rgb: np.ndarray, size: int) -> np.ndarray:
-    """``cv2.medianBlur`` per channel on row strips in threads; identical to one call.
-
-    Each strip is filtered with ``size // 2`` extra rows of real image above and
-    below, which are then dropped, so only the true image border is replicated.
-    """
-    rows = rgb.shape[0]
-    halo = size // 2
-    n_strips = max(1, min(os.cpu_count() or 1, 8, rows // (4 * size) or 1))
-    bounds = np.linspace(0, rows, n_strips + 1).astype(int)
-    out = np.empty_like(rgb)
-
-    def job(task: tuple[int, int]) -> None:
-        ch, i = task
-        r0, r1 = int(bounds[i]), int(bounds[i + 1])
-        a0, a1 = max(0, r0 - halo), min(rows, r1 + halo)
-        filtered = cv2.medianBlur(np.ascontiguousarray(rgb[a0:a1, :, ch]), size)
-        out[r0:r1, :, ch] = filtered[r0 - a0:r1 - a0]
-
-    tasks = [(ch, i) for ch in range(rgb.shape[2]) for i in range(n_strips)]
-    with ThreadPoolExecutor(max_workers=min(len(tasks), os.cpu_count() or 1)) as pool:
-        list(pool.map(job, tasks))
     return out
 
 

@@ -1,0 +1,83 @@
+"""The exact min/max-network median (methods/thesis/median.py) against OpenCV and SciPy."""
+
+from __future__ import annotations
+
+import itertools
+
+import cv2
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from depthrefine.methods.thesis.median import median_filter_2d, median_network
+
+
+def _evaluate(size: int, inputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Run the network's table on ``inputs`` ((size + 1, lanes) array); the two output rows."""
+    table, n_slots, (out0, out1) = median_network(size)
+    lanes = inputs.shape[1] - 3 * size
+    buf = np.zeros((n_slots, inputs.shape[1]), inputs.dtype)
+    buf[:size + 1] = inputs
+    for kind, dst, a, a_off, b, b_off, extra in table.tolist():
+        n = lanes + extra
+        (np.minimum if kind == 0 else np.maximum)(buf[a, a_off:a_off + n], buf[b, b_off:b_off + n],
+                                                 out=buf[dst, :n])
+    return buf[out0, :lanes], buf[out1, :lanes]
+
+
+def _zero_one_windows(size: int, patterns: np.ndarray) -> None:
+    """Each pattern ((size + 1) x size bits) in its own group of lanes; check both outputs."""
+    n = len(patterns)
+    grid = np.zeros((size + 1, (n + 3) * size), np.uint8)
+    grid[:, :n * size] = patterns.reshape(n, size + 1, size).transpose(1, 0, 2).reshape(size + 1, n * size)
+    top, bottom = _evaluate(size, grid)
+    half = size * size // 2
+    blocks = patterns.reshape(n, size + 1, size)
+    # The median of 0/1 values is 1 exactly when more than half of them are 1.
+    np.testing.assert_array_equal(top[::size][:n], blocks[:, :size].sum(axis=(1, 2)) > half)
+    np.testing.assert_array_equal(bottom[::size][:n], blocks[:, 1:].sum(axis=(1, 2)) > half)
+
+
+def test_network_is_exact_on_every_zero_one_input_of_the_3x3_pair():
+    # 0-1 principle: a min/max network that selects the median of every 0/1 input
+    # selects it for every input. 4 rows x 3 columns: all 4096 patterns.
+    patterns = np.array(list(itertools.product((0, 1), repeat=12)), np.uint8)
+    _zero_one_windows(3, patterns)
+
+
+@pytest.mark.parametrize("size", [5, 7, 9])
+def test_network_is_exact_on_random_zero_one_inputs(size):
+    rng = np.random.default_rng(size)
+    n_bits = (size + 1) * size
+    # Densities near one half are where a miscounted rank would show.
+    density = rng.uniform(0.3, 0.7, (20_000, 1))
+    patterns = (rng.random((20_000, n_bits)) < density).astype(np.uint8)
+    _zero_one_windows(size, patterns)
+
+
+@pytest.mark.parametrize("size", [3, 5, 7, 9])
+@pytest.mark.parametrize("shape", [(1, 1), (1, 9), (2, 3), (3, 1), (8, 8), (13, 9), (70, 41)])
+@pytest.mark.parametrize("levels", [256, 3])
+def test_median_filter_2d_equals_opencv_and_scipy(size, shape, levels):
+    rng = np.random.default_rng(sum(shape) + size + levels)
+    img8 = rng.integers(0, levels, shape).astype(np.uint8)
+    img16 = (img8.astype(np.uint16) * 257 + rng.integers(0, 2, shape)).astype(np.uint16)
+    out8, out16 = median_filter_2d([img8, img16], size)
+    assert out8.dtype == np.uint8 and out16.dtype == np.uint16 and out8.shape == shape
+    np.testing.assert_array_equal(out8, cv2.medianBlur(img8, size))
+    np.testing.assert_array_equal(out16, ndimage.median_filter(img16, size=size, mode="nearest"))
+
+
+def test_median_filter_2d_in_row_bands_equals_one_pass(monkeypatch):
+    # Tall image: split into row bands for threads; odd height: one padded row dropped.
+    rng = np.random.default_rng(3)
+    img = rng.integers(0, 256, (301, 37)).astype(np.uint8)
+    monkeypatch.setattr("depthrefine.methods.thesis.median._MIN_PAIRS_PER_TASK", 4)
+    monkeypatch.setattr("depthrefine.methods.thesis.median._LANES_PER_PASS", 100)
+    np.testing.assert_array_equal(median_filter_2d([img], 7)[0], cv2.medianBlur(img, 7))
+
+
+@pytest.mark.parametrize("size", [1, 4, -3])
+def test_median_filter_2d_rejects_even_or_small_sizes(size):
+    with pytest.raises(ValueError, match="odd"):
+        median_filter_2d([np.zeros((4, 4), np.uint8)], size)
