@@ -13,11 +13,15 @@ are the manual patch rectangles, in color-image pixels.
 
 from __future__ import annotations
 
+import functools
 import os
+import threading
+import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import closing, contextmanager
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 import numpy as np
 from scipy import ndimage
@@ -36,6 +40,7 @@ __all__ = [
     "patch_grid",
     "correct_cluster_depths",
     "ScaleWarning",
+    "step_times",
 ]
 
 #: ``progress(done, total)``: called after each patch.
@@ -343,30 +348,29 @@ def correct_cluster_depths(
 
 
 # ----------------------------------------------------------------------------
-# The pipeline
+# The pipeline: prepare the run, solve each patch, paste it back, build the result
 # ----------------------------------------------------------------------------
 
 
-def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
-    """Steps 2-8; with ``warm`` (``None`` or a previous state) also return the new state."""
-    params = RefineParams() if params is None else params
-    if not isinstance(params, RefineParams):
-        raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
-    depth = as_depth(depth_lr)
-    rgb = check_rgb(rgb_hr)
-    check_pixels(rgb.shape, name="rgb_hr")
-    step = plan_scale(depth.shape, rgb.shape)
-    if step.resizes_color:
-        warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
-    s = step.factor
-    h, w = depth.shape
+@dataclass(frozen=True)
+class _Levels:
+    """The depth scale of one run (spec conventions).
 
-    # Levels (spec conventions): the +-5 tolerance is in levels of
-    # (max - min) / 255 depth units (1 for 8-bit input, or params.level_size);
-    # the histogram has one bin per level for 8-bit input, else
-    # params.histogram_bins bins over the valid range.
+    The +-``tolerance_levels`` test counts in levels of ``level_size`` depth
+    units: 1 for 8-bit input, else ``(max - min) / 255`` of the valid depths,
+    unless ``params.level_size`` is set. The histogram has one bin per level
+    for 8-bit input, else ``params.histogram_bins`` bins over the valid range,
+    starting at ``origin`` (the smallest valid depth).
+    """
+
+    origin: float
+    level_size: float
+    bin_width: float
+    n_bins: int
+
+
+def _levels(depth: np.ndarray, is_8bit: bool, params: RefineParams) -> _Levels:
     lo, hi = valid_range(depth)
-    is_8bit = np.asarray(depth_lr).dtype == np.uint8
     if params.level_size is not None:
         level_size = float(params.level_size)
     else:
@@ -376,100 +380,33 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     else:
         n_bins = params.histogram_bins
         bin_width = (hi - lo) / (n_bins - 1) if hi > lo else 1.0
+    return _Levels(origin=lo, level_size=level_size, bin_width=bin_width, n_bins=n_bins)
 
-    # 4.3.1 median (whole image at once; at a patch border the window sees the
-    # neighbouring patch, not a mirrored edge).
-    rgb_work = resize_color(rgb, step)
-    filtered = median_rgb(rgb_work, params.median_size)
-    # 4.3.2 L*a*b* (per pixel, so once for the whole image).
-    lab = rgb_to_lab(filtered)
 
-    if params.patch_layout is not None:
-        lr_patches, owner = _manual_patches(params.patch_layout, (h, w), step.color_shape)
-    else:
-        lr_patches, owner = patch_grid((h, w), params.patches), None
+@dataclass(frozen=True)
+class _Context:
+    """What every patch reads (shared, never written while patches are solved)."""
 
-    rows_w, cols_w = step.work_shape
-    out = np.full((rows_w, cols_w), np.nan, dtype=np.float32)
-    corrected_lr = np.full((h, w), np.nan, dtype=np.float32)
-    labels_lr = np.zeros((h, w), dtype=np.int16)
-    if keep:
-        lab_all = np.zeros((rows_w, cols_w, 3), dtype=np.float32)
-        labels_all = np.zeros((rows_w, cols_w), dtype=np.int16)
-        patch_index = np.zeros((rows_w, cols_w), dtype=np.int32)
-        pieces = np.full((params.n_clusters, rows_w, cols_w), np.nan, dtype=np.float32)
-    # Nearest valid depth anywhere, for patches without any valid sample.
-    nearest_global = fill_invalid_nearest(depth)
-
-    # Warm start: the previous frame's means, when it had the same patches.
-    stateful = warm is not False
-    previous = warm if stateful and isinstance(warm, _WarmState) and warm.patches == lr_patches \
-        and warm.params == params and len(warm.means) == len(lr_patches) else None
-
-    def solve(index: int) -> _PatchResult:
-        return _solve_patch(lr_patches[index], s, depth, lab, nearest_global, params, lo, level_size, bin_width,
-                            n_bins, keep, init=None if previous is None else previous.means[index],
-                            want_means=stateful)
-
-    # Patches are independent: solve them in threads (NumPy and OpenCV release
-    # the GIL), write them back in order, so the result does not depend on timing.
-    workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
-    pool = ThreadPoolExecutor(max_workers=workers) if workers > 1 and out.size >= _PARALLEL_MIN_PIXELS else None
-    try:
-        indices = range(len(lr_patches))
-        solved = pool.map(solve, indices) if pool is not None else map(solve, indices)
-        means = []
-        for index, ((r0, r1, c0, c1), res) in enumerate(zip(lr_patches, solved)):
-            own = slice(r0 * s, r1 * s), slice(c0 * s, c1 * s)
-            if owner is None:
-                out[own] = res.depth
-                corrected_lr[r0:r1, c0:c1] = res.corrected
-                labels_lr[r0:r1, c0:c1] = res.lab_samples
-                mine = (slice(None), slice(None))
-            else:
-                mine_lr = owner[r0:r1, c0:c1] == index
-                mine = np.repeat(np.repeat(mine_lr, s, axis=0), s, axis=1)
-                out[own][mine] = res.depth[mine]
-                corrected_lr[r0:r1, c0:c1][mine_lr] = res.corrected[mine_lr]
-                labels_lr[r0:r1, c0:c1][mine_lr] = res.lab_samples[mine_lr]
-            if keep:
-                lab_all[own][mine] = res.features[mine]
-                labels_all[own][mine] = res.labels[mine]
-                patch_index[own][mine] = index
-                for c in range(len(res.per_cluster)):
-                    pieces[c][own][mine] = res.per_cluster[c][mine]
-            means.append(res.means)
-            if progress is not None:
-                progress(index + 1, len(lr_patches))
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
-
-    depth_hr = resize_depth_nearest(out, step.color_shape)
-    hr_patches = [(r0 * s, r1 * s, c0 * s, c1 * s) for r0, r1, c0, c1 in lr_patches]
-    if not keep:
-        empty = np.empty((0,), dtype=np.float32)
-        result = Refinement(depth_hr, step, hr_patches, empty, empty, empty, empty, labels_lr,
-                            empty, corrected_lr, empty, empty, level_size)
-        return (result, _WarmState(lr_patches, params, means)) if stateful else result
-    return Refinement(
-        depth_hr=depth_hr, scale=step, patches=hr_patches, rgb_filtered=filtered, lab_unified=lab_all,
-        labels=labels_all, patch_index=patch_index, labels_lr=labels_lr,
-        sparse_depth=_spread(depth, s, step.work_shape), corrected_lr=corrected_lr,
-        corrected_sparse=_spread(corrected_lr, s, step.work_shape), cluster_pieces=pieces,
-        level_size=level_size,
-    )
+    depth: np.ndarray          # (h, w) float32, NaN = no measurement
+    lab: np.ndarray            # (Hw, Ww, 3) float32: L*a*b* of the median-filtered color
+    nearest: np.ndarray        # (h, w): nearest valid depth anywhere (for patches without any)
+    s: int                     # the integer scale factor
+    levels: _Levels
+    params: RefineParams
+    keep: bool                 # also return the intermediates
+    init_means: list | None = None  # per patch: the previous frame's cluster means (warm start)
+    want_means: bool = False   # return each patch's cluster means (for the next frame)
 
 
 @dataclass
 class _PatchResult:
-    depth: np.ndarray          # (Hp, Wp) float32
-    corrected: np.ndarray      # (hp, wp) float64
-    lab_samples: np.ndarray    # (hp, wp) int16
-    labels: np.ndarray | None = None
-    features: np.ndarray | None = None
-    per_cluster: np.ndarray | None = None
-    means: np.ndarray | None = None  # (k, 3) cluster means in k-means features, for a warm start
+    depth: np.ndarray                      # (Hp, Wp) float32
+    corrected: np.ndarray                  # (hp, wp) float64
+    lab_samples: np.ndarray                # (hp, wp) int16
+    labels: np.ndarray | None = None       # (Hp, Wp) int16, with keep
+    features: np.ndarray | None = None     # (Hp, Wp, 3) float32, with keep
+    per_cluster: np.ndarray | None = None  # (k, Hp, Wp) float32, with keep
+    means: np.ndarray | None = None        # (k, 3) cluster means in k-means features, with want_means
 
 
 @dataclass(frozen=True)
@@ -481,20 +418,175 @@ class _WarmState:
     means: list
 
 
-def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bin_width, n_bins,
-                 keep, init=None, want_means=False) -> _PatchResult:
-    """Steps 5-7 for one patch (pure: reads the shared arrays, writes nothing shared)."""
-    r0, r1, c0, c1 = rect
+@dataclass
+class _Canvas:
+    """The run's output arrays, filled patch by patch."""
+
+    depth: np.ndarray                      # (Hw, Ww) float32
+    corrected_lr: np.ndarray               # (h, w) float32
+    labels_lr: np.ndarray                  # (h, w) int16
+    lab: np.ndarray | None = None          # the rest only with keep
+    labels: np.ndarray | None = None
+    patch_index: np.ndarray | None = None
+    pieces: np.ndarray | None = None
+
+    @classmethod
+    def empty(cls, work_shape: tuple[int, int], depth_shape: tuple[int, int], n_clusters: int,
+              keep: bool) -> _Canvas:
+        canvas = cls(depth=np.full(work_shape, np.nan, dtype=np.float32),
+                     corrected_lr=np.full(depth_shape, np.nan, dtype=np.float32),
+                     labels_lr=np.zeros(depth_shape, dtype=np.int16))
+        if keep:
+            canvas.lab = np.zeros(work_shape + (3,), dtype=np.float32)
+            canvas.labels = np.zeros(work_shape, dtype=np.int16)
+            canvas.patch_index = np.zeros(work_shape, dtype=np.int32)
+            canvas.pieces = np.full((n_clusters,) + work_shape, np.nan, dtype=np.float32)
+        return canvas
+
+    def paste(self, index: int, rect: tuple[int, int, int, int], res: _PatchResult, s: int,
+              owner: np.ndarray | None) -> None:
+        """Write patch ``index`` back: all of it for a grid, only the pixels it owns for a manual layout."""
+        r0, r1, c0, c1 = rect
+        own = slice(r0 * s, r1 * s), slice(c0 * s, c1 * s)
+        lr = slice(r0, r1), slice(c0, c1)
+        if owner is None:
+            self.depth[own] = res.depth
+            self.corrected_lr[lr] = res.corrected
+            self.labels_lr[lr] = res.lab_samples
+            mine = (slice(None), slice(None))
+        else:
+            mine_lr = owner[lr] == index
+            mine = np.repeat(np.repeat(mine_lr, s, axis=0), s, axis=1)
+            self.depth[own][mine] = res.depth[mine]
+            self.corrected_lr[lr][mine_lr] = res.corrected[mine_lr]
+            self.labels_lr[lr][mine_lr] = res.lab_samples[mine_lr]
+        if self.lab is not None:
+            self.lab[own][mine] = res.features[mine]
+            self.labels[own][mine] = res.labels[mine]
+            self.patch_index[own][mine] = index
+            for c in range(len(res.per_cluster)):
+                self.pieces[c][own][mine] = res.per_cluster[c][mine]
+
+
+def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
+    """The thesis driver: check the inputs, plan the scale step and the depth levels, make the
+    color features once for the whole image, then solve each patch and paste it back in order.
+
+    With ``warm`` (``None`` or a previous state) also return the new state: each patch's
+    k-means starts from the previous frame's means when that frame had the same patches.
+    """
+    params = RefineParams() if params is None else params
+    if not isinstance(params, RefineParams):
+        raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
+    depth = as_depth(depth_lr)
+    rgb = check_rgb(rgb_hr)
+    check_pixels(rgb.shape, name="rgb_hr")
+    step = plan_scale(depth.shape, rgb.shape)
+    if step.resizes_color:
+        warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
+    levels = _levels(depth, np.asarray(depth_lr).dtype == np.uint8, params)
+    filtered, lab = _color_features(rgb, step, params)
+    lr_patches, owner = _lr_patches(params, depth.shape, step)
+    with _timed("nearest fill"):
+        nearest = fill_invalid_nearest(depth)
+    stateful = warm is not False
+    previous = warm if stateful and isinstance(warm, _WarmState) and warm.patches == lr_patches \
+        and warm.params == params and len(warm.means) == len(lr_patches) else None
+    ctx = _Context(depth=depth, lab=lab, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
+                   init_means=None if previous is None else previous.means, want_means=stateful)
+    canvas = _Canvas.empty(step.work_shape, depth.shape, params.n_clusters, keep)
+    means = []
+    with closing(_solve_patches(ctx, lr_patches)) as solved:  # closing: stop the threads on an error
+        for index, (rect, res) in enumerate(zip(lr_patches, solved)):
+            with _timed("paste"):
+                canvas.paste(index, rect, res, ctx.s, owner)
+            means.append(res.means)
+            if progress is not None:
+                progress(index + 1, len(lr_patches))
+    result = _result(canvas, ctx, step, lr_patches, filtered)
+    return (result, _WarmState(lr_patches, params, means)) if stateful else result
+
+
+def _color_features(rgb: np.ndarray, step: ScaleStep, params: RefineParams) -> tuple[np.ndarray, np.ndarray]:
+    """4.3.1-4.3.2 on the whole work grid: the median-filtered color and its L*a*b*.
+
+    The median runs on the whole image at once (at a patch border the window
+    sees the neighbouring patch, not a mirrored edge); L*a*b* is per pixel.
+    """
+    with _timed("scale step"):
+        rgb_work = resize_color(rgb, step)
+    with _timed("median"):
+        filtered = median_rgb(rgb_work, params.median_size)
+    with _timed("lab"):
+        lab = rgb_to_lab(filtered)
+    return filtered, lab
+
+
+def _lr_patches(params: RefineParams, depth_shape: tuple[int, int],
+                step: ScaleStep) -> tuple[list[tuple[int, int, int, int]], np.ndarray | None]:
+    """The patches on the depth grid, and for a manual layout the map of which patch owns each pixel."""
+    if params.patch_layout is not None:
+        return _manual_patches(params.patch_layout, depth_shape, step.color_shape)
+    return patch_grid(depth_shape, params.patches), None
+
+
+def _solve_patches(ctx: _Context, lr_patches: list[tuple[int, int, int, int]]) -> Iterator[_PatchResult]:
+    """Each patch's result, in order.
+
+    Patches are independent: for a large image they are solved in threads
+    (NumPy and OpenCV release the GIL) and yielded in order, so the result
+    does not depend on timing.
+    """
+    workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
+    solve = functools.partial(_solve_patch, ctx, lr_patches)
+    if workers <= 1 or ctx.lab.shape[0] * ctx.lab.shape[1] < _PARALLEL_MIN_PIXELS:
+        for index in range(len(lr_patches)):
+            yield solve(index)
+        return
+    pool = ThreadPoolExecutor(max_workers=workers)
+    try:
+        yield from pool.map(solve, range(len(lr_patches)))
+    finally:
+        pool.shutdown(cancel_futures=True)
+
+
+def _result(canvas: _Canvas, ctx: _Context, step: ScaleStep, lr_patches: list[tuple[int, int, int, int]],
+            filtered: np.ndarray) -> Refinement:
+    """The :class:`Refinement`; without ``keep`` the work-grid intermediates are empty arrays."""
+    s = ctx.s
+    with _timed("resize back"):
+        depth_hr = resize_depth_nearest(canvas.depth, step.color_shape)
+    common = dict(depth_hr=depth_hr, scale=step, patches=[(r0 * s, r1 * s, c0 * s, c1 * s)
+                                                          for r0, r1, c0, c1 in lr_patches],
+                  labels_lr=canvas.labels_lr, corrected_lr=canvas.corrected_lr, level_size=ctx.levels.level_size)
+    if not ctx.keep:
+        empty = np.empty((0,), dtype=np.float32)
+        return Refinement(**common, rgb_filtered=empty, lab_unified=empty, labels=empty, patch_index=empty,
+                          sparse_depth=empty, corrected_sparse=empty, cluster_pieces=empty)
+    return Refinement(
+        **common, rgb_filtered=filtered, lab_unified=canvas.lab, labels=canvas.labels,
+        patch_index=canvas.patch_index, sparse_depth=_spread(ctx.depth, s, step.work_shape),
+        corrected_sparse=_spread(canvas.corrected_lr, s, step.work_shape), cluster_pieces=canvas.pieces,
+    )
+
+
+def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], index: int) -> _PatchResult:
+    """Steps 5-7 for patch ``index`` (pure: reads ``ctx``, writes nothing shared)."""
+    r0, r1, c0, c1 = lr_patches[index]
+    s, params, levels = ctx.s, ctx.params, ctx.levels
+    init = None if ctx.init_means is None else ctx.init_means[index]
     # 4.3.2-4.3.3: unified L*, k-means.
-    clustered = cluster_colors(
-        lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
-        iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
-        white_bound=params.white_bound, max_lightness=params.max_lightness,
-        lightness_weight=params.lightness_weight, return_features=keep or want_means, init_means=init)
-    labels, features = clustered if keep or want_means else (clustered, None)
+    with _timed("clustering"):
+        clustered = cluster_colors(
+            ctx.lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
+            iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
+            white_bound=params.white_bound, max_lightness=params.max_lightness,
+            lightness_weight=params.lightness_weight, return_features=ctx.keep or ctx.want_means,
+            init_means=init)
+    labels, features = clustered if ctx.keep or ctx.want_means else (clustered, None)
     k = int(labels.max()) + 1
     means = None
-    if want_means:  # each cluster's mean (w L*, a*, b*): where the next frame's k-means starts
+    if ctx.want_means:  # each cluster's mean (w L*, a*, b*): where the next frame's k-means starts
         flat = labels.ravel()
         counts = np.bincount(flat, minlength=k).astype(np.float64)
         means = np.stack([np.bincount(flat, weights=features[..., d].ravel(), minlength=k) for d in range(3)], axis=1)
@@ -503,30 +595,84 @@ def _solve_patch(rect, s, depth, lab, nearest_global, params, lo, level_size, bi
 
     # 4.4.1-4.4.2: spreading and classification: sample (i, j) sits at (i*s + s//2, j*s + s//2).
     lab_samples = labels[s // 2::s, s // 2::s]
-    d_patch = depth[r0:r1, c0:c1]
+    d_patch = ctx.depth[r0:r1, c0:c1]
 
     # 4.4.3-4.4.4: per-cluster histogram correction.
-    corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
-    for c in range(k):
-        in_c = lab_samples == c
-        if not in_c.any():
-            continue
-        if params.correct_depth:
-            corrected[in_c] = correct_cluster_depths(
-                d_patch[in_c], origin=lo, level_size=level_size, bin_width=bin_width, n_bins=n_bins,
-                dominant_fraction=params.dominant_fraction, tolerance_levels=params.tolerance_levels)
-        else:
-            corrected[in_c] = d_patch[in_c]
+    with _timed("correction"):
+        corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
+        for c in range(k):
+            in_c = lab_samples == c
+            if not in_c.any():
+                continue
+            if params.correct_depth:
+                corrected[in_c] = correct_cluster_depths(
+                    d_patch[in_c], origin=levels.origin, level_size=levels.level_size, bin_width=levels.bin_width,
+                    n_bins=levels.n_bins, dominant_fraction=params.dominant_fraction,
+                    tolerance_levels=params.tolerance_levels)
+            else:
+                corrected[in_c] = d_patch[in_c]
 
     # 4.5: per-cluster expansion, interpolation, reshaping, combination.
-    result, per_cluster = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion, keep)
-    missing = ~np.isfinite(result)
-    if missing.any():
-        fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else nearest_global[r0:r1, c0:c1]
-        rr, cc = np.nonzero(missing)
-        result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
-    return _PatchResult(result, corrected, lab_samples, labels if keep else None, features if keep else None,
-                        per_cluster if keep else None, means)
+    with _timed("interpolation"):
+        result, per_cluster = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion,
+                                                    ctx.keep)
+        missing = ~np.isfinite(result)
+        if missing.any():
+            fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else ctx.nearest[r0:r1, c0:c1]
+            rr, cc = np.nonzero(missing)
+            result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
+    return _PatchResult(depth=result, corrected=corrected, lab_samples=lab_samples,
+                        labels=labels if ctx.keep else None, features=features if ctx.keep else None,
+                        per_cluster=per_cluster if ctx.keep else None, means=means)
+
+
+# ----------------------------------------------------------------------------
+# Step timing, for benchmarks
+# ----------------------------------------------------------------------------
+
+_STEP_TIMES: dict[str, float] | None = None
+_STEP_LOCK = threading.Lock()
+
+
+@contextmanager
+def step_times() -> Iterator[dict[str, float]]:
+    """Seconds spent in each step of the thesis runs inside the ``with`` block.
+
+    For benchmarks (``benchmarks/bench_speed.py``). Steps solved per patch
+    (clustering, correction, interpolation) are summed over patches, which may
+    run in threads, so the sum of the steps can exceed the wall time. Not for
+    concurrent runs: all runs inside the block add to the same dict.
+
+    Examples
+    --------
+    >>> depth = np.full((4, 4), 30, np.uint8); rgb = np.zeros((8, 8, 3), np.uint8)
+    >>> with step_times() as times:
+    ...     _ = refine_thesis(depth, rgb)
+    >>> sorted(times)[:3]
+    ['clustering', 'correction', 'interpolation']
+    """
+    global _STEP_TIMES
+    times: dict[str, float] = {}
+    previous, _STEP_TIMES = _STEP_TIMES, times
+    try:
+        yield times
+    finally:
+        _STEP_TIMES = previous
+
+
+@contextmanager
+def _timed(name: str) -> Iterator[None]:
+    if _STEP_TIMES is None:
+        yield
+        return
+    start = time.perf_counter()
+    try:
+        yield
+    finally:
+        elapsed = time.perf_counter() - start
+        with _STEP_LOCK:
+            if _STEP_TIMES is not None:
+                _STEP_TIMES[name] = _STEP_TIMES.get(name, 0.0) + elapsed
 
 
 def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep):

@@ -41,7 +41,7 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         Odd side of the square window (thesis: 7). Borders replicate the
         edge pixel. Integer images up to :data:`NETWORK_MAX_SIZE` use the
         exact min/max network of :mod:`.median` (the same output as
-        ``cv2.medianBlur``, in about a third of its time at 7x7).
+        ``cv2.medianBlur``, in about half its time at 7x7).
 
     Returns
     -------
