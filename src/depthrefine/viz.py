@@ -24,9 +24,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Sequence
 
-import cv2
 import numpy as np
 
+from ._lazy import cv2
 from ._validate import as_rgb_float
 
 __all__ = [

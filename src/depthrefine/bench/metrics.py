@@ -23,8 +23,9 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
+
+from .._lazy import cv2
 
 __all__ = [
     "Scores",

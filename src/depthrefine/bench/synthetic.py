@@ -19,7 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
+
+from .._lazy import ndimage
 
 __all__ = ["SyntheticScene", "make_scene", "make_two_planes", "make_sequence", "PALETTE", "DEPTH_CONSTANT"]
 

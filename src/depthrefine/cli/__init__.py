@@ -21,9 +21,9 @@ import importlib
 import sys
 import traceback
 import warnings
+from typing import Sequence
 
 from .. import __version__
-from .._validate import pixel_limit
 
 __all__ = ["main", "build_parser", "CliError"]
 
@@ -53,7 +53,14 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The parser of every command; with ``argv``, only of the command it names.
+
+    Each command module imports what its command needs, so ``depthrefine
+    refine --help`` imports only the refine command's module and
+    ``depthrefine --version`` none (fast start-up). ``argv`` without a known
+    command (``--help``, a typo) gets every command, for the listing.
+    """
     parser = _Parser(
         prog="depthrefine",
         description="Refine a low-resolution ToF depth map with a registered high-resolution color image.",
@@ -62,23 +69,38 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show tracebacks of internal failures")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    for name in COMMAND_MODULES:
+    for name in _modules_for(argv):
         importlib.import_module(f"{__name__}.{name}").add_parser(sub)
-    from ._common import add_shared_options
+    if sub.choices:
+        from ._common import add_shared_options
 
-    for command_parser in dict.fromkeys(sub.choices.values()):
-        add_shared_options(command_parser)
+        for command_parser in dict.fromkeys(sub.choices.values()):
+            add_shared_options(command_parser)
     return parser
+
+
+def _modules_for(argv: Sequence[str] | None) -> list[str]:
+    """The command modules a parse of ``argv`` needs (all when unsure)."""
+    if argv is None:
+        return COMMAND_MODULES
+    words = [a for a in argv if not a.startswith("-")]
+    if not words:
+        return [] if "--version" in argv else COMMAND_MODULES
+    module = words[0].replace("-", "_")
+    return [module] if module in COMMAND_MODULES else COMMAND_MODULES
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else argv
+    parser = build_parser(argv)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error (already printed, status 2)
         return exc.code if isinstance(exc.code, int) else 2
     args.debug = bool(getattr(args, "debug", False))
+    from .._validate import pixel_limit
+
     try:
         with warnings.catch_warnings(), pixel_limit(getattr(args, "max_pixels", None)):
             warnings.simplefilter("default")

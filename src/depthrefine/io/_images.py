@@ -35,10 +35,9 @@ import tempfile
 from pathlib import Path
 from typing import Iterator
 
-import cv2
 import numpy as np
-import tifffile
 
+from .._lazy import cv2, tifffile
 from .._validate import check_pixels, check_rgb, no_valid_pixel_message
 from ._files import InputFileError, atomic_write, check_output
 

@@ -9,8 +9,9 @@ pixel is never averaged into a result.
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
+
+from .._lazy import cv2
 from .._fill import fill_invalid_nearest
 from .._validate import as_depth, check_rgb
 

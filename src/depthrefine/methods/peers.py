@@ -47,9 +47,9 @@ import math
 from dataclasses import dataclass
 from typing import Callable
 
-import cv2
 import numpy as np
 
+from .._lazy import cv2
 from .._validate import as_rgb_float, check_number, check_rgb
 from .baselines import upsample
 

@@ -17,8 +17,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
+
+from .._lazy import cv2
 
 __all__ = ["ScaleStep", "plan_scale", "resize_color", "MAX_ASPECT_MISMATCH"]
 

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
-import cv2
 import numpy as np
 
+from .._lazy import cv2
 from .._validate import is_int
 
 __all__ = [

@@ -24,9 +24,9 @@ from __future__ import annotations
 import math
 from typing import Any, Sequence
 
-import cv2
 import numpy as np
 
+from .._lazy import cv2
 from .._validate import is_int
 from .boards import MIN_VIEW_CORNERS, Board, BoardView, detect_board, usable
 from .camera import CameraModel, StereoRig

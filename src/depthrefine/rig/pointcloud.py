@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import math
 
-import cv2
 import numpy as np
 
+from .._lazy import cv2
 from .._validate import as_depth
 from .camera import CameraModel
 

@@ -7,9 +7,9 @@ remapped bilinearly.
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
+from .._lazy import cv2
 from .._validate import as_depth, check_depth
 from .camera import CameraModel, check_camera_shape
 from .pointcloud import pixel_rays

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
 import numpy as np
-from scipy import ndimage
 
+from ..._lazy import ndimage
 from ..._validate import as_depth, check_pixels, check_rgb, valid_range
 from ..._fill import fill_invalid_nearest
 from .params import RefineParams

@@ -7,10 +7,9 @@ All functions are pure: arrays in, new arrays out.
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
-from scipy import ndimage
 
+from ..._lazy import cv2, ndimage
 from ..._validate import as_rgb_float, check_int
 from .median import median_filter_2d
 
