@@ -1,21 +1,29 @@
-"""Speed and memory of ``depthrefine.refine`` beside OpenCV-contrib's fast global smoother.
+"""Speed and memory of every registered method beside OpenCV-contrib's fast global smoother.
 
-Prints, per input, the median wall time of ``refine`` (thesis method) and of
-the peer (bilinear enlargement + ``cv2.ximgproc.fastGlobalSmootherFilter``
-guided by the same color image), timed alternately in the same run, their
-ratio, and the peak memory that ``refine`` adds, as a multiple of the output
-depth map's bytes. Targets (issue 2): ratio <= 3, memory < 20x.
+Prints, per input and per method of ``depthrefine.METHODS`` (all of them, so a
+newly registered method is timed without edits), the median wall time of
+``refine``, the median time of the peer (bilinear enlargement +
+``cv2.ximgproc.fastGlobalSmootherFilter`` guided by the same color image),
+timed alternately in the same run, their ratio, and the peak memory that
+``refine`` adds, as a multiple of the output depth map's bytes. Then the time
+of each step of the thesis method (``depthrefine.methods.thesis.refine.step_times``;
+steps solved per patch are summed over patches, which run in threads), and the
+start-up time of the command (``benchmarks/bench_startup.py``).
+Targets (issues 2, 13): thesis <= 3x FGS, memory < 20x the output.
 
-Inputs: the thesis geometry (176x144 depth, x7, color 1232x1008, made from
-the shipped Art scene: color resized, ground truth area-averaged to 176x144
-plus Gaussian noise of 2 levels), and the shipped Art scene at x4, x8, x16.
+Inputs: the thesis geometry (SR4000 176x144 depth, x7, color 1232x1008, made
+from the shipped Art scene: color resized, ground truth area-averaged to
+176x144 plus Gaussian noise of 2 levels), and the shipped Art scene
+(1376x1088) at x4, x8, x16.
 
 Usage::
 
-    python benchmarks/bench_speed.py [--repeats 9] [--method thesis]
-    python benchmarks/bench_speed.py --method gbp     # the default method: target <= 1 s per 1376x1088 image
+    python benchmarks/bench_speed.py [--repeats 9] [--methods thesis,fgs] [--no-memory] [--no-startup]
+    python benchmarks/bench_speed.py --methods gbp     # the default method: target <= 1 s per 1376x1088 image
 
-Peak memory is measured in a fresh subprocess per input: the kernel's peak
+A slow method gets fewer repeats (at least 3) so that it takes about
+``--budget`` seconds per input; the table says how many it got. Peak memory
+is measured in a fresh subprocess per input and method: the kernel's peak
 resident set (VmHWM) is reset just before the call (``/proc/self/clear_refs``)
 and read just after; where that is not possible, ``ru_maxrss`` minus the
 resident set before the call is used.
@@ -35,6 +43,12 @@ import numpy as np
 
 import depthrefine
 from depthrefine.io import load_sample
+from depthrefine.methods.thesis.refine import step_times
+
+try:
+    from benchmarks.bench_startup import format_startup, measure_startup
+except ImportError:  # run as a script from benchmarks/
+    from bench_startup import format_startup, measure_startup
 
 FGS_LAMBDA = 24.0
 FGS_SIGMA_COLOR = 8.0
@@ -71,20 +85,43 @@ def fgs_peer(depth_lr: np.ndarray, rgb_hr: np.ndarray) -> np.ndarray:
     return cv2.ximgproc.fastGlobalSmootherFilter(rgb_hr, up, FGS_LAMBDA, FGS_SIGMA_COLOR)
 
 
-def time_pair(depth_lr, rgb_hr, method: str, repeats: int) -> tuple[float, float]:
-    """Median seconds of refine and of the peer, calls alternated to share the machine's noise."""
-    ours, peer = [], []
-    depthrefine.refine(depth_lr, rgb_hr, method=method)  # warm-up (imports, thread pools)
-    fgs_peer(depth_lr, rgb_hr)
-    for _ in range(repeats):
+def time_methods(depth_lr, rgb_hr, methods: list[str], repeats: int, budget: float
+                 ) -> tuple[dict[str, tuple[float, int]], float]:
+    """Median seconds (and repeats) of each method, and of the peer, calls alternated to share the noise."""
+    times: dict[str, list[float]] = {}
+    planned: dict[str, int] = {}
+    for name in methods:  # warm-up (imports, thread pools) and a first measure for the budget
         t0 = time.perf_counter()
-        depthrefine.refine(depth_lr, rgb_hr, method=method)
-        t1 = time.perf_counter()
+        depthrefine.refine(depth_lr, rgb_hr, method=name)
+        first = time.perf_counter() - t0
+        planned[name] = max(3, min(repeats, int(budget / max(first, 1e-6))))
+        times[name] = []
+    fgs_peer(depth_lr, rgb_hr)
+    peer = []
+    for i in range(repeats):
+        for name in methods:
+            if i < planned[name]:
+                t0 = time.perf_counter()
+                depthrefine.refine(depth_lr, rgb_hr, method=name)
+                times[name].append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
         fgs_peer(depth_lr, rgb_hr)
-        t2 = time.perf_counter()
-        ours.append(t1 - t0)
-        peer.append(t2 - t1)
-    return statistics.median(ours), statistics.median(peer)
+        peer.append(time.perf_counter() - t0)
+    return {name: (statistics.median(v), len(v)) for name, v in times.items()}, statistics.median(peer)
+
+
+def thesis_step_times(depth_lr, rgb_hr, repeats: int) -> tuple[dict[str, float], float]:
+    """Median seconds of each step of the thesis method, and of the whole call."""
+    per_step: dict[str, list[float]] = {}
+    total = []
+    for _ in range(repeats):
+        with step_times() as steps:
+            t0 = time.perf_counter()
+            depthrefine.refine(depth_lr, rgb_hr, method="thesis")
+            total.append(time.perf_counter() - t0)
+        for name, seconds in steps.items():
+            per_step.setdefault(name, []).append(seconds)
+    return {name: statistics.median(v) for name, v in per_step.items()}, statistics.median(total)
 
 
 _MEMORY_CHILD = r"""
@@ -133,25 +170,48 @@ def peak_memory(name: str, method: str) -> dict:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=9)
-    ap.add_argument("--method", default="thesis", choices=sorted(depthrefine.METHODS))
+    ap.add_argument("--methods", default="all",
+                    help=f"comma-separated, of {sorted(depthrefine.METHODS)} (default: all)")
+    ap.add_argument("--budget", type=float, default=30.0,
+                    help="seconds per method and input that set a slow method's repeats (min 3)")
     ap.add_argument("--no-memory", action="store_true", help="skip the peak-memory measurement")
+    ap.add_argument("--no-startup", action="store_true", help="skip the start-up measurement")
     args = ap.parse_args(argv)
+    methods = list(depthrefine.METHODS) if args.methods == "all" else args.methods.split(",")
+    unknown = sorted(set(methods) - set(depthrefine.METHODS))
+    if unknown:
+        ap.error(f"unknown methods {unknown}; choose of {sorted(depthrefine.METHODS)}")
     print(f"depthrefine {depthrefine.__version__}, OpenCV {cv2.__version__}, {cv2.getNumThreads()} OpenCV threads, "
-          f"method {args.method}, {args.repeats} alternated repeats; FGS lambda={FGS_LAMBDA}, sigma_color={FGS_SIGMA_COLOR}")
-    header = f"{'input':44s} {'refine ms':>10s} {'FGS ms':>8s} {'ratio':>6s} {'peak MB':>8s} {'x output':>9s}"
+          f"up to {args.repeats} alternated repeats; FGS peer lambda={FGS_LAMBDA}, sigma_color={FGS_SIGMA_COLOR}")
+    header = (f"{'input':44s} {'method':8s} {'ms':>8s} {'FGS ms':>8s} {'ratio':>6s} {'runs':>4s} "
+              f"{'peak MB':>8s} {'x output':>9s}")
     print(header)
     print("-" * len(header))
+    steps = {}
     for name, load in INPUTS.items():
         depth, rgb = load()
-        ours, peer = time_pair(depth, rgb, args.method, args.repeats)
-        mem = "" if args.no_memory else peak_memory(name, args.method)
-        mem_txt = "" if not mem else f"{mem['added'] / 2**20:8.1f} {mem['added'] / mem['out_bytes']:9.1f}"
-        print(f"{name:44s} {ours * 1e3:10.1f} {peer * 1e3:8.1f} {ours / peer:6.2f} {mem_txt}", flush=True)
-    if args.method == "gbp":
-        print("targets (issue 9): at most 1000 ms per 1376x1088 image (the Middlebury Art rows), "
-              "peak memory < 20x the output depth map's bytes")
-    else:
-        print("targets: ratio <= 3.0 (refine / FGS), peak memory < 20x the output depth map's bytes")
+        medians, peer = time_methods(depth, rgb, methods, args.repeats, args.budget)
+        for method, (seconds, runs) in medians.items():
+            mem = "" if args.no_memory else peak_memory(name, method)
+            mem_txt = "" if not mem else f"{mem['added'] / 2**20:8.1f} {mem['added'] / mem['out_bytes']:9.1f}"
+            print(f"{name:44s} {method:8s} {seconds * 1e3:8.1f} {peer * 1e3:8.1f} {seconds / peer:6.2f} {runs:4d} "
+                  f"{mem_txt}", flush=True)
+        if "thesis" in methods:
+            steps[name] = thesis_step_times(depth, rgb, args.repeats)
+    print("targets: thesis ratio <= 3.0 (refine / FGS), peak memory < 20x the output depth map's bytes")
+    if "gbp" in methods:
+        print("target (issue 9): gbp at most 1000 ms per 1376x1088 image (the Middlebury Art rows)")
+    if steps:
+        names = list(dict.fromkeys(step for per_step, _ in steps.values() for step in per_step))
+        print()
+        print("thesis steps, median ms (per-patch steps summed over patches):")
+        print(f"{'input':44s} " + " ".join(f"{n[:13]:>13s}" for n in names) + f" {'call':>8s}")
+        for name, (per_step, total) in steps.items():
+            print(f"{name:44s} " + " ".join(f"{per_step.get(n, 0.0) * 1e3:13.1f}" for n in names)
+                  + f" {total * 1e3:8.1f}")
+    if not args.no_startup:
+        print()
+        print("\n".join(format_startup(measure_startup())))
     return 0
 
 
