@@ -37,7 +37,7 @@ _MIN, _MAX = 0, 1
 
 #: Lanes (row pairs side by side) per pass: the network's buffers stay a few
 #: megabytes while each NumPy call has enough work to hide its overhead.
-_LANES_PER_PASS = 160_000
+_LANES_PER_PASS = 80_000
 
 #: Row pairs per task when threads share one image.
 _MIN_PAIRS_PER_TASK = 32
@@ -170,7 +170,7 @@ def median_network(size: int) -> tuple[np.ndarray, int, tuple[int, int]]:
 
 
 def _run_rows(padded: np.ndarray, out: np.ndarray, size: int, y0: int, y1: int) -> None:
-    """Output rows ``y0 .. y1-1`` (``y1 - y0`` even) of ``out`` from the edge-padded image."""
+    """Output rows ``y0 .. y1-1`` (``y1 - y0`` even; the last may lie past ``out``) from the edge-padded image."""
     table, n_slots, (out0, out1) = median_network(size)
     width = out.shape[1]
     wp = padded.shape[1]
@@ -187,10 +187,12 @@ def _run_rows(padded: np.ndarray, out: np.ndarray, size: int, y0: int, y1: int) 
             n = lanes + extra
             func(buf[a, a_off:a_off + n], buf[b, b_off:b_off + n], out=buf[dst, :n])
         out[y:y + 2 * pairs:2] = buf[out0, :pairs * wp].reshape(pairs, wp)[:, :width]
-        out[y + 1:y + 2 * pairs:2] = buf[out1, :pairs * wp].reshape(pairs, wp)[:, :width]
+        second = len(range(y + 1, min(y + 2 * pairs, out.shape[0]), 2))  # an odd height drops the last row
+        out[y + 1:y + 2 * pairs:2] = buf[out1, :pairs * wp].reshape(pairs, wp)[:second, :width]
 
 
-def median_filter_2d(images: list[np.ndarray], size: int) -> list[np.ndarray]:
+def median_filter_2d(images: list[np.ndarray], size: int, *,
+                     out: list[np.ndarray] | None = None) -> list[np.ndarray]:
     """Exact ``size`` x ``size`` median of each 2-D integer image, edges replicated.
 
     Identical to ``cv2.medianBlur(image, size)`` for uint8 and to
@@ -201,12 +203,15 @@ def median_filter_2d(images: list[np.ndarray], size: int) -> list[np.ndarray]:
     Parameters
     ----------
     images : list of (M, N) integer ndarrays
+        May be strided views (the channels of an RGB image).
     size : int
         Odd window side, >= 3.
+    out : list of (M, N) ndarrays, optional
+        Where to write each result (may be strided views); new arrays when omitted.
 
     Returns
     -------
-    list of (M, N) ndarrays, same dtypes.
+    list of (M, N) ndarrays, same dtypes (``out`` when given).
 
     Examples
     --------
@@ -217,23 +222,21 @@ def median_filter_2d(images: list[np.ndarray], size: int) -> list[np.ndarray]:
     if size < 3 or size % 2 == 0:
         raise ValueError(f"median size must be odd and >= 3; got {size}.")
     half = size // 2
+    outs = [np.empty_like(image) for image in images] if out is None else list(out)
     tasks = []
-    outs = []
-    for image in images:
+    for image, result in zip(images, outs):
         rows = image.shape[0]
         # One extra bottom row for an odd height: its output row is made and dropped.
         padded = np.pad(image, ((half, half + rows % 2), (half, half)), mode="edge")
-        out = np.empty((rows + rows % 2, image.shape[1]), image.dtype)
-        outs.append(out)
-        pairs = out.shape[0] // 2
+        pairs = (rows + 1) // 2
         n_bands = max(1, min(os.cpu_count() or 1, pairs // _MIN_PAIRS_PER_TASK))
         bounds = [2 * (pairs * i // n_bands) for i in range(n_bands + 1)]
-        tasks += [(padded, out, b0, b1) for b0, b1 in zip(bounds[:-1], bounds[1:])]
+        tasks += [(padded, result, y0, y1) for y0, y1 in zip(bounds[:-1], bounds[1:])]
     workers = min(len(tasks), os.cpu_count() or 1)
     if workers > 1:
         with ThreadPoolExecutor(max_workers=workers) as pool:
             list(pool.map(lambda t: _run_rows(t[0], t[1], size, t[2], t[3]), tasks))
     else:
-        for padded, out, y0, y1 in tasks:
-            _run_rows(padded, out, size, y0, y1)
-    return [out[:image.shape[0]] for out, image in zip(outs, images)]
+        for padded, result, y0, y1 in tasks:
+            _run_rows(padded, result, size, y0, y1)
+    return outs

@@ -60,9 +60,8 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         return rgb.copy()
     if rgb.dtype in (np.uint8, np.uint16) and size <= NETWORK_MAX_SIZE:
         out = np.empty_like(rgb)
-        channels = [np.ascontiguousarray(rgb[:, :, ch]) for ch in range(rgb.shape[2])]
-        for ch, filtered in enumerate(median_filter_2d(channels, size)):
-            out[:, :, ch] = filtered
+        channels = range(rgb.shape[2])
+        median_filter_2d([rgb[:, :, ch] for ch in channels], size, out=[out[:, :, ch] for ch in channels])
         return out
     if rgb.dtype == np.uint8 or (size <= 5 and rgb.dtype in (np.uint16, np.float32)):
         return cv2.medianBlur(np.ascontiguousarray(rgb), size)
