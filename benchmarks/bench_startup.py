@@ -51,6 +51,9 @@ def format_startup(medians: dict[str, float]) -> list[str]:
     for name, seconds in medians.items():
         lines.append(f"{name:44s} {seconds * 1e3:10.0f} {(seconds - base) * 1e3:10.0f} {seconds / base:7.2f}")
     lines.append(f"target: --version and refine --help within {TARGET_EXCESS * 1e3:.0f} ms of python -c pass")
+    if sys.flags.dont_write_bytecode:
+        lines.append("note: PYTHONDONTWRITEBYTECODE is set, so every run compiles depthrefine's modules again "
+                     "(an installed package has them compiled); unset it to measure what users see")
     return lines
 
 
