@@ -722,33 +722,35 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     uniform = ((lab_valid == lab_valid[below]) & (lab_valid == lab_valid[:, right])
                & (lab_valid == lab_valid[below][:, right]))
     cell_label = np.where(uniform, lab_valid, -1).astype(np.int16)
-    rr, cc = np.nonzero(cell_label[i0][:, j0] != labels)
+    slow = np.flatnonzero(cell_label[i0][:, j0] != labels)  # flat indices into the patch, row-major
 
     # Other pixels: each corner counts only if it holds a sample of the
     # pixel's cluster (after expansion); weights renormalised. Bilinear
     # interpolation of value*weight divided by that of weight.
-    if rr.size:
+    if slow.size:
+        rr, cc = np.divmod(slow, labels.shape[1])
         # float64 here: num / den of a constant must round back to that constant
         # exactly (float32 gave 3.0000002 for 3 beside a hole).
         weighted = (values * weights).reshape(-1)
         present = weights.reshape(-1)
-        p00 = (labels[rr, cc].astype(np.int32) * (hp * wp) + (i0 * wp).astype(np.int32)[rr]
-               + j0.astype(np.int32)[cc])
-        dj = (j1 - j0).astype(np.int32)[cc]
-        p10 = p00 + ((i1 - i0) * wp).astype(np.int32)[rr]
-        fr_s = fr[rr]
-        fc_s = fc[cc]
+        p00 = (labels.take(slow).astype(np.int32) * (hp * wp) + (i0 * wp).astype(np.int32).take(rr)
+               + j0.astype(np.int32).take(cc))
+        dj = (j1 - j0).astype(np.int32).take(cc)
+        p10 = p00 + ((i1 - i0) * wp).astype(np.int32).take(rr)
+        p01, p11 = p00 + dj, p10 + dj
+        fr_s = fr.take(rr)
+        fc_s = fc.take(cc)
 
         def lerp2(flat: np.ndarray) -> np.ndarray:
-            a, b = flat[p00], flat[p00 + dj]
-            c, d = flat[p10], flat[p10 + dj]
+            a, b = flat.take(p00), flat.take(p01)
+            c, d = flat.take(p10), flat.take(p11)
             top = a + fc_s * (b - a)
             bottom = c + fc_s * (d - c)
             return top + fr_s * (bottom - top)
 
         num, den = lerp2(weighted), lerp2(present)
         with np.errstate(invalid="ignore", divide="ignore"):
-            result[rr, cc] = np.where(den > 0, num / den, np.nan)
+            result.reshape(-1)[slow] = np.where(den > 0, num / den, np.nan)
 
     per_cluster = None
     if keep:
@@ -766,13 +768,19 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     return result, per_cluster
 
 
+@functools.lru_cache(maxsize=64)
 def _axis_weights(n_hr: int, s: int, n_lr: int):
-    """For HR positions 0..n_hr-1: the two neighbouring samples and the weight of the second."""
+    """For HR positions 0..n_hr-1: the two neighbouring samples and the weight of the second.
+
+    Cached (patches of one grid share their sizes); the arrays are read-only.
+    """
     t = (np.arange(n_hr, dtype=np.float64) - (s // 2)) / s
     i0 = np.clip(np.floor(t).astype(np.intp), 0, n_lr - 1)
     i1 = np.minimum(i0 + 1, n_lr - 1)
     frac = np.clip(t - i0, 0.0, 1.0)
     frac[i1 == i0] = 0.0
+    for array in (i0, i1, frac):
+        array.setflags(write=False)
     return i0, i1, frac
 
 
