@@ -8,9 +8,10 @@ import pytest
 
 import depthrefine
 from depthrefine import GbpParams
-from depthrefine.bench.synthetic import make_scene
+from depthrefine.bench.metrics import flicker
+from depthrefine.bench.synthetic import make_scene, make_sequence
 from depthrefine.evaluate import rmse
-from depthrefine.methods.gbp import block_mean_valid, estimate_noise, guide_trust, upsample_gbp
+from depthrefine.methods.gbp import block_mean_valid, estimate_noise, guide_trust, upsample_gbp, upsample_gbp_stateful
 
 from conftest import shared_data_path
 
@@ -37,6 +38,7 @@ def test_it_is_the_default_and_registered():
     assert depthrefine.DEFAULT_METHOD == "gbp"
     entry = depthrefine.get_method("gbp")
     assert entry.func is upsample_gbp and entry.params_type is GbpParams and entry.guided and entry.interpolating
+    assert entry.refine_stateful is upsample_gbp_stateful
 
 
 @pytest.mark.parametrize("edge_col", [29, 31])
@@ -257,3 +259,71 @@ def test_realtof_do_no_harm_the_default_beats_bicubic_on_real_captures():
     score = {(r.scene, r.scale, r.method): r.rmse for r in rows}
     for scene, scale in {(r.scene, r.scale) for r in rows}:
         assert score[scene, scale, "gbp"] < score[scene, scale, "bicubic"], (scene, scale, score)
+
+
+# ----------------------------------------------------------------------------
+# the warm start (``depthrefine batch --temporal``)
+# ----------------------------------------------------------------------------
+
+
+def _warm(frames, params=None):
+    outs, state = [], None
+    for f in frames:
+        out, state = upsample_gbp_stateful(f.depth_lr, f.rgb_hr, params=params, state=state)
+        outs.append(out)
+    return outs
+
+
+def test_the_first_frame_of_the_warm_start_is_refine_bit_for_bit(small_scene):
+    params = GbpParams(iterations=3)
+    out, state = upsample_gbp_stateful(small_scene.depth_lr, small_scene.rgb_hr, params=params, state=None)
+    assert out.dtype == np.float32
+    assert np.array_equal(out, upsample_gbp(small_scene.depth_lr, small_scene.rgb_hr, params=params))
+    assert state is not None
+
+
+@pytest.mark.parametrize("noise_std", [None, 0.0])
+def test_the_warm_start_lowers_flicker_without_raising_the_rmse(noise_std):
+    seq = make_sequence(8, (64, 96), 4, seed=2, color_noise_std=8.0, noise_std=noise_std)
+    gts = [f.depth_hr_gt for f in seq]
+    cold = [upsample_gbp(f.depth_lr, f.rgb_hr) for f in seq]
+    warm = _warm(seq)
+    assert np.array_equal(warm[0], cold[0])
+    assert flicker(warm, gts) < 0.9 * flicker(cold, gts)
+    assert np.mean([rmse(p, g) for p, g in zip(warm, gts)]) <= 1.01 * np.mean([rmse(p, g) for p, g in zip(cold, gts)])
+    lo, hi = float(seq[-1].depth_lr.min()), float(seq[-1].depth_lr.max())
+    assert lo <= warm[-1].min() and warm[-1].max() <= hi
+
+
+def test_a_static_input_converges_and_a_change_starts_afresh(rng):
+    gt, rgb, _ = _step()
+    frames = [_area(gt + rng.normal(0, 4, gt.shape).astype(np.float32), 4) for _ in range(6)]
+    outs, state = [], None
+    for y in frames:
+        out, state = upsample_gbp_stateful(y, rgb, state=state)
+        outs.append(out)
+    cold = [upsample_gbp(y, rgb) for y in frames]
+    # the last frame is the mean of the steady frames' results where nothing changed
+    assert np.mean(np.abs(outs[-1] - outs[-2])) < 0.5 * np.mean(np.abs(cold[-1] - cold[-2]))
+    # a new frame with a different depth everywhere is refined afresh
+    moved = frames[-1] + 80.0
+    out, _ = upsample_gbp_stateful(moved, rgb, state=state)
+    assert np.array_equal(out, upsample_gbp(moved, rgb))
+
+
+def test_a_changed_frame_size_is_a_cold_start_and_holes_start_afresh(small_scene):
+    y, rgb = small_scene.depth_lr, small_scene.rgb_hr
+    _, state = upsample_gbp_stateful(y, rgb)
+    half = np.ascontiguousarray(rgb[:32, :32])
+    out, _ = upsample_gbp_stateful(y[:8, :8], half, state=state)
+    assert np.array_equal(out, upsample_gbp(y[:8, :8], half))
+    holed = y.copy()
+    holed[4:8, 4:8] = 0
+    out, state2 = upsample_gbp_stateful(holed, rgb, state=state)
+    cold = upsample_gbp(holed, rgb)
+    assert np.isfinite(out).all()
+    # the pixels over and next to the hole (the 3x3 mean's reach) are this frame's result
+    assert np.array_equal(out[12:36, 12:36], cold[12:36, 12:36])
+    # when the hole fills again, those pixels start afresh once more
+    out3, _ = upsample_gbp_stateful(y, rgb, state=state2)
+    assert np.array_equal(out3[12:36, 12:36], upsample_gbp(y, rgb)[12:36, 12:36])

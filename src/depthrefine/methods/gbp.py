@@ -74,7 +74,7 @@ from .._fill import fill_invalid_nearest
 from .._validate import as_depth, check_int, check_number, check_rgb
 from .peers import _guide8
 
-__all__ = ["GbpParams", "upsample_gbp", "estimate_noise", "guide_trust", "block_mean_valid"]
+__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "estimate_noise", "guide_trust", "block_mean_valid"]
 
 Progress = Callable[[int, int], None]
 
@@ -505,3 +505,70 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     if progress is not None:
         progress(p.iterations + 1, p.iterations + 1)
     return result.astype(np.float32, copy=False)
+
+
+#: Frames a pixel's running average spans at most (the warm start's memory).
+_WARM_FRAMES = 8
+#: An input pixel changed when its 3x3 mean moved by more than this many noise sigmas.
+_WARM_SIGMAS = 3.0
+
+
+def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams | None = None,
+                          state: dict | None = None,
+                          progress: Progress | None = None) -> tuple[np.ndarray, dict]:
+    """:func:`upsample_gbp` for a video: a running average over frames where the input did not change.
+
+    Each frame is refined as by :func:`upsample_gbp`. Where the input did not
+    change since the previous frame (its 3x3 mean, valid in both frames,
+    moved by at most 3 noise sigmas of the current frame; any change at all
+    on a noise-free input), the output is the running mean of this result
+    and the previous output, over at most 8 frames: the noise left in each
+    frame's result averages out instead of flickering. Elsewhere (a moving
+    object, a new or lost measurement; the 3x3 mean flags the input pixels
+    next to a change too) the pixel starts afresh with this frame's result.
+    The output is clipped to this frame's valid input range. Deterministic.
+
+    With ``state=None`` (the first frame) the result is :func:`upsample_gbp`'s,
+    bit for bit; a state from a frame of another size is ignored (a cold start).
+
+    Returns
+    -------
+    depth_hr : (H, W) float32 ndarray
+    state : dict
+        Opaque (the previous input's 3x3 means and validity, the output, and
+        each pixel's frame count); pass it with the next frame.
+
+    Examples
+    --------
+    >>> depth = np.array([[10, 10, 50, 50]] * 4, np.float32)
+    >>> rgb = np.zeros((8, 8, 3), np.uint8); rgb[:, 4:] = 200
+    >>> out, state = upsample_gbp_stateful(depth, rgb)
+    >>> out2, state = upsample_gbp_stateful(depth, rgb, state=state)
+    >>> bool((out == upsample_gbp(depth, rgb)).all()), bool((out2 == out).all())
+    (True, True)
+    """
+    import cv2
+
+    result = upsample_gbp(depth_lr, rgb_hr, params=params, progress=progress)
+    depth = as_depth(depth_lr)
+    valid = np.isfinite(depth)
+    filled = fill_invalid_nearest(depth)
+    mean3 = cv2.blur(filled, (3, 3), borderType=cv2.BORDER_REPLICATE)
+    valid3 = cv2.erode(valid.astype(np.uint8), np.ones((3, 3), np.uint8), borderType=cv2.BORDER_REPLICATE) > 0
+    shape = depth.shape + result.shape
+    out = result
+    count = np.ones(result.shape, np.float32)
+    if state is not None and state.get("shape") == shape:
+        sigma = estimate_noise(filled, valid)
+        tolerance = _WARM_SIGMAS * sigma if sigma > 0 else 1e-6 * _span(filled, valid)
+        steady = valid3 & state["valid3"] & (np.abs(mean3 - state["mean3"]) <= tolerance)
+        # no margin beyond the 3x3 mean's own reach: a margin of 1 or 2 more input pixels cut the flicker less
+        # (make_sequence, 12 frames: -30 % / -25 % against -38 %) and did not lower the RMSE
+        changed = _resize((~steady).astype(np.uint8), result.shape, cv2.INTER_NEAREST) > 0
+        count = np.where(changed, 1.0, np.minimum(state["count"] + 1.0, _WARM_FRAMES)).astype(np.float32)
+        # out <- prev + (result - prev) / count where steady; result where changed (count 1)
+        prev = state["out"]
+        out = (prev + (result - prev) / count).astype(np.float32)
+        out[changed] = result[changed]
+        np.clip(out, float(np.nanmin(depth)), float(np.nanmax(depth)), out=out)
+    return out, {"shape": shape, "mean3": mean3, "valid3": valid3, "out": out.copy(), "count": count}

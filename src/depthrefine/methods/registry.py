@@ -220,5 +220,6 @@ if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen 
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
 register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,
+                refine_stateful=gbp.upsample_gbp_stateful,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")
