@@ -34,6 +34,23 @@ def test_summary_means_leave_out_the_tuning_scenes():
     assert only_tune.body[0][1] == "7.00" and "only tuning scenes" in only_tune.note
 
 
+def test_overview_puts_every_protocol_on_one_table_with_the_default_methods_margin():
+    rows = [_row("park", "art", 4, "bicubic", 4.0), _row("park", "art", 8, "bicubic", 5.0),
+            _row("park", "art", 4, "gbp", 3.0), _row("park", "art", 8, "gbp", 6.0),
+            _row("park", "art", 4, "bilinear", 1.0), _row("park", "art", 8, "bilinear", 9.0),
+            _row("park", "dolls", 4, "gbp", 100.0, split="tune"),
+            _row("lu", "a", 4, "bicubic", 2.0), _row("lu", "a", 4, "gbp", 1.0)]
+    lines = report.overview_markdown(rows).splitlines()
+    assert lines[0] == "| method | park ×4/×8 | lu ×4 |"
+    assert lines[2] == "| bicubic | 4.00 / **5.00** | 2.00 |"
+    assert lines[3] == "| gbp (default) | 3.00 / 6.00 | **1.00** |"  # the tuning scene is left out
+    assert lines[4] == "| bilinear | **1.00** / 9.00 | – |"
+    # bilinear is not a peer of the margin row; above the best peer the margin is negative.
+    assert lines[5] == "| gbp below the best peer | 25 % / -20 % | 50 % |"
+    assert "### All protocols: mean RMSE" in report.summary_markdown(rows)
+    assert report.overview_markdown([]) == ""
+
+
 def test_published_numbers_sit_beside_ours():
     rows = [_row("park", s, 4, "thesis", v) for s, v in (("art", 3.0), ("books", 2.0), ("moebius", 1.0))]
     (table,) = report.published_table(rows)

@@ -31,6 +31,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .._lazy import cv2
+from ..methods.registry import DEFAULT_METHOD
 from .protocols import PROTOCOLS, left_out_reason
 from .runner import METRICS, ROW_FIELDS, BenchCase, BenchRow, mean_and_count, mean_or_nan
 from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
@@ -38,6 +39,8 @@ from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
 __all__ = [
     "Table",
     "summary_tables",
+    "OVERVIEW_PEERS",
+    "overview_markdown",
     "csv_text",
     "summary_markdown",
     "terminal_table",
@@ -168,6 +171,72 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
                  f"{EDGE_THRESHOLD_LEVELS:g} levels between 4-neighbours of the ground truth",
         ))
     return tables
+
+
+#: The peers the default method is measured against in :func:`overview_markdown`
+#: (issue 9: bicubic and the tuned OpenCV filters; nearest and bilinear are shown, not compared).
+OVERVIEW_PEERS = ("bicubic", "jbf", "guided", "fgs", "wmf")
+
+
+def overview_markdown(rows: Sequence[BenchRow], *, method: str = DEFAULT_METHOD,
+                      peers: Sequence[str] = OVERVIEW_PEERS) -> str:
+    """Every protocol on one table: mean RMSE per method, the scales of a protocol in one cell.
+
+    A cell reads ``×4 / ×8 / ×16``; the best value of each protocol and scale
+    is in bold. A last row gives how far ``method`` (the default) is below
+    the best of ``peers`` present, in percent of that peer's RMSE (negative:
+    above it). Means leave out tuning scenes, as in :func:`summary_tables`.
+    This is the table the README quotes. Returns "" when there are no rows.
+
+    Examples
+    --------
+    >>> rows = [BenchRow("park", "art", s, m, "test", v, 1.0, 1.0, 0.5, 0.1, 1.0, 0.01, 1.5)
+    ...         for s, m, v in [(4, "bicubic", 2.0), (8, "bicubic", 4.0), (4, "gbp", 1.5), (8, "gbp", 3.0)]]
+    >>> print(overview_markdown(rows).splitlines()[-1])
+    | gbp below the best peer | 25 % / 25 % |
+    """
+    protocols = _protocols_in_order(rows)
+    if not protocols:
+        return ""
+    methods = _methods_in_order(rows)
+    means: dict[tuple[str, str, int], float] = {}
+    scales: dict[str, list[int]] = {}
+    for protocol in protocols:
+        scored, _ = _scored_rows(rows, protocol)
+        scales[protocol] = sorted({r.scale for r in scored})
+        for m in methods:
+            for s in scales[protocol]:
+                means[protocol, m, s] = mean_or_nan(r.rmse for r in scored if r.method == m and r.scale == s)
+
+    def best(protocol: str, s: int, among: Sequence[str]) -> float:
+        values = [means[protocol, m, s] for m in among if math.isfinite(means.get((protocol, m, s), math.nan))]
+        return min(values) if values else math.nan
+
+    header = ["method"] + [f"{p} " + "/".join(f"×{s}" for s in scales[p]) for p in protocols]
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    for m in methods:
+        cells = [f"{m} (default)" if m == method else m]
+        for p in protocols:
+            parts = []
+            for s in scales[p]:
+                value = means[p, m, s]
+                text = _fmt(value)
+                top = best(p, s, methods)
+                parts.append(f"**{text}**" if math.isfinite(value) and value == top and len(methods) > 1 else text)
+            cells.append(" / ".join(parts))
+        lines.append("| " + " | ".join(cells) + " |")
+    present = [q for q in peers if q in methods and q != method]
+    if method in methods and present:
+        cells = [f"{method} below the best peer"]
+        for p in protocols:
+            parts = []
+            for s in scales[p]:
+                ours, theirs = means[p, method, s], best(p, s, present)
+                parts.append(f"{round(100.0 * (theirs - ours) / theirs)} %"
+                             if math.isfinite(ours) and math.isfinite(theirs) and theirs > 0 else "–")
+            cells.append(" / ".join(parts))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
 
 
 def published_table(rows: Sequence[BenchRow]) -> list[Table]:
@@ -365,6 +434,13 @@ def summary_markdown(
         out.append("")
     out.append("## Results")
     out.append("")
+    overview = overview_markdown(rows)
+    if overview:
+        present = [q for q in OVERVIEW_PEERS if q in _methods_in_order(rows)]
+        out += ["### All protocols: mean RMSE, ×4 / ×8 / ×16", "",
+                f"_Test scenes only; best of each protocol and scale in bold; the last row: how far the default "
+                f"method ({DEFAULT_METHOD}) is below the best of {', '.join(present) or 'the peers'}._", "",
+                overview]
     for t in summary_tables(rows):
         out.append(_markdown_table(t))
     for t in published_table(rows):
