@@ -248,17 +248,37 @@ def test_realtof_cases_follow_the_protocol():
     assert (kinect.rgb_hr[..., 0] == kinect.rgb_hr[..., 1]).all()        # IR: gray
 
 
-def test_realtof_do_no_harm_the_default_beats_bicubic_on_real_captures():
-    """On real ToF (target = real depth), the default method is below bicubic's RMSE in every cell."""
+def test_realtof_do_no_harm_the_default_beats_interpolation_on_real_captures():
+    """On real ToF (target = real depth), the default method is below bicubic's and bilinear's RMSE in every cell."""
     from depthrefine.bench import run_benchmark
     from depthrefine.bench.protocols import load_cases
 
     data = shared_data_path("real_tof")
     cases = load_cases(data.parent, "realtof", (4, 8))
-    rows = run_benchmark(cases, ["bicubic", "gbp"]).rows
+    rows = run_benchmark(cases, ["bilinear", "bicubic", "gbp"]).rows
     score = {(r.scene, r.scale, r.method): r.rmse for r in rows}
     for scene, scale in {(r.scene, r.scale) for r in rows}:
-        assert score[scene, scale, "gbp"] < score[scene, scale, "bicubic"], (scene, scale, score)
+        for peer in ("bilinear", "bicubic"):
+            assert score[scene, scale, "gbp"] < score[scene, scale, peer], (scene, scale, peer, score)
+
+
+def test_the_fallback_interpolation_does_not_ring_at_depth_jumps():
+    from depthrefine.methods.gbp import _clamped_bicubic, _near_jump
+
+    stairs = np.full((12, 12), 10, np.float32)
+    stairs[:, 4:8], stairs[:, 8:] = 50, 100
+    k = np.ones((3, 3), np.uint8)
+    low = cv2.resize(cv2.erode(stairs, k), (48, 48), interpolation=cv2.INTER_NEAREST)
+    high = cv2.resize(cv2.dilate(stairs, k), (48, 48), interpolation=cv2.INTER_NEAREST)
+    plain = cv2.resize(stairs, (48, 48), interpolation=cv2.INTER_CUBIC)
+    assert (plain < low - 1).any() and (plain > high + 1).any()        # bicubic rings at the jumps
+    clipped = _clamped_bicubic(stairs, (48, 48), _near_jump(stairs, GbpParams()))
+    assert (clipped >= low - 1e-4).all() and (clipped <= high + 1e-4).all()   # the fallback does not
+    # away from a jump (a smooth surface: jump map 0) it is plain bicubic, bit for bit
+    smooth = (50 + 20 * np.sin(np.arange(12, dtype=np.float32) / 2.0))[None, :].repeat(12, 0)
+    no_jump = np.zeros((12, 12), np.float32)
+    np.testing.assert_array_equal(_clamped_bicubic(smooth, (48, 48), no_jump),
+                                  cv2.resize(smooth, (48, 48), interpolation=cv2.INTER_CUBIC))
 
 
 # ----------------------------------------------------------------------------

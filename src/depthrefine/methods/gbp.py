@@ -11,8 +11,10 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    band of ``y`` (a clipped RMS, robust to the few depth edges in that band),
    and expressed in 8-bit levels of the map's own depth range (1st to 99th
    percentile), so the same value means the same thing in any unit.
-2. **Detail: back-projection with an edge-aware solve.** Start from bicubic
-   enlargement; repeat ``iterations`` times: add the bicubic enlargement of
+2. **Detail: back-projection with an edge-aware solve.** Start from the
+   clipped bicubic enlargement (bicubic, clipped to the range of each
+   pixel's 3x3 input neighbourhood, so that it does not ring at depth
+   jumps); repeat ``iterations`` times: add the bicubic enlargement of
    the residual ``y - D(x)`` (``D``: the mean over each pixel's footprint,
    the integration a ToF pixel does), then smooth with OpenCV-contrib's fast
    global smoother (weighted least squares, Min et al. 2014) guided by the
@@ -39,7 +41,7 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    (a curvature above the noise, ``jump_levels``: a guide's edges over a
    smooth surface are texture), and shares below ``trust_floor`` counted as
    none. The full-resolution result keeps that share of its guided detail
-   and falls back to plain bicubic interpolation elsewhere: of the input
+   and falls back to clipped bicubic interpolation elsewhere: of the input
    itself when it is noise-free, of the result's own (denoised) reduction
    as the noise grows to ``flat_noise`` levels.
 
@@ -275,6 +277,32 @@ def _resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np
     return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
 
 
+def _clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray) -> np.ndarray:
+    """Bicubic enlargement, clipped near depth jumps to the range of each pixel's 3x3 input neighbourhood.
+
+    Plain bicubic rings at a depth jump (values beyond both sides); clipped
+    there, it keeps bicubic's sharpness, and on smooth surfaces (``jump`` 0:
+    :func:`_near_jump` of ``depth``) it stays plain bicubic, whose peaks may
+    rightly pass the samples. As the fallback of the guide trust (step 4)
+    and the start of the back-projection it took the real Kinect
+    self-benchmark from 20.55 to 18.6 mm at x4 (33.4 to 30.7 at x8) and the
+    tuning mean from 2.665 to 2.657; clipped everywhere, a smooth surface
+    under a textured guide lost 10 % to bicubic.
+    """
+    import cv2
+
+    kernel = np.ones((3, 3), np.uint8)
+    up = _resize(depth, shape, cv2.INTER_CUBIC)
+    low = _resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST)
+    high = _resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST)
+    clipped = np.clip(up, low, high)
+    # up <- up + jump * (clipped - up), in place
+    clipped -= up
+    clipped *= _resize(jump, shape, cv2.INTER_LINEAR)
+    up += clipped
+    return up
+
+
 def block_mean_valid(depth: np.ndarray, factor: int) -> np.ndarray:
     """Mean of the valid (finite) pixels of each ``factor x factor`` block; NaN where none is.
 
@@ -333,7 +361,7 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
     sigma_levels = 255.0 * sigma / span
 
     lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2)
-    x = _resize(filled, (H, W), cv2.INTER_CUBIC)
+    x = _clamped_bicubic(filled, (H, W), _near_jump(depth, p))
     for k in range(p.iterations):
         # geometric schedule lambda_first -> lambda_last over the rounds
         ratio = p.lambda_first * (p.lambda_last / p.lambda_first) ** (k / max(1, p.iterations - 1))
@@ -425,9 +453,13 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
 def _near_jump(depth: np.ndarray, p: GbpParams) -> np.ndarray:
     """1 near a depth jump of the input, 0 on smooth surfaces (``jump_levels``), per input pixel.
 
-    ``depth`` is (h, w) float32 with NaN for invalid pixels, at least 2 x 2.
+    ``depth`` is (h, w) float32 with NaN for invalid pixels (at least one
+    valid); under 3 pixels on a side no curvature is measured and it is 0.
     """
     import cv2
+
+    if min(depth.shape) < 3:
+        return np.zeros(depth.shape, np.float32)
 
     valid = np.isfinite(depth)
     filled = fill_invalid_nearest(depth)
@@ -488,14 +520,14 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
         if p.trust_floor > 0:
             trust = np.clip((trust - p.trust_floor) / (1.0 - p.trust_floor), 0.0, 1.0)
         trust = _resize(trust, (H, W), cv2.INTER_LINEAR)
-        # the fallback: bicubic enlargement of the result's own reduction, moved towards the input itself as
+        # the fallback: clipped bicubic enlargement of the result's own reduction, moved towards the input itself as
         # far as the input is noise-free (there is nothing to average away then)
         filled = fill_invalid_nearest(depth)
         valid = np.isfinite(depth)
         reduced = _resize(result, (h, w), cv2.INTER_AREA)
         share = _noise_share(_noise_levels(filled, valid), p)
         reduced = np.where(valid, reduced + (1.0 - share) * (filled - reduced), reduced).astype(np.float32)
-        base = _resize(reduced, (H, W), cv2.INTER_CUBIC)
+        base = _clamped_bicubic(reduced, (H, W), _near_jump(depth, p))
         # result <- base + trust * (result - base), in place
         result -= base
         result *= trust
