@@ -24,42 +24,21 @@ Subpackages, one per domain (the README's "Architecture" section draws the flow)
 - ``evaluate``  the public name of the metrics (``bench.metrics``)
 """
 
-import importlib
+from ._lazy import lazy_exports
 
 __version__ = "0.1.0"
 
-#: The public names, imported from their modules on first use (PEP 562), so
-#: that ``import depthrefine`` and ``depthrefine --version`` stay fast.
-_PUBLIC = {
-    "refine": ".methods.registry",
-    "DEFAULT_METHOD": ".methods.registry",
-    "METHODS": ".methods.registry",
-    "Method": ".methods.registry",
-    "get_method": ".methods.registry",
-    "register_method": ".methods.registry",
-    "RefineParams": ".methods.thesis.params",
-    "GbpParams": ".methods.gbp",
-    "Refinement": ".methods.thesis.refine",
-    "ScaleWarning": ".methods.thesis.refine",
-    "refine_with_intermediates": ".methods.thesis.refine",
+#: The public names by module, imported on first use (PEP 562), so that
+#: ``import depthrefine`` and ``depthrefine --version`` stay fast.
+_EXPORTS = {
+    ".methods.registry": ("refine", "DEFAULT_METHOD", "METHODS", "Method", "get_method", "register_method"),
+    ".methods.thesis.params": ("RefineParams",),
+    ".methods.gbp": ("GbpParams",),
+    ".methods.thesis.refine": ("Refinement", "ScaleWarning", "refine_with_intermediates"),
 }
 _SUBPACKAGES = ("methods", "rig", "bench", "io", "cli", "viz", "evaluate")
 
-
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        value = getattr(importlib.import_module(_PUBLIC[name], __name__), name)
-    elif name in _SUBPACKAGES:
-        value = importlib.import_module(f".{name}", __name__)
-    else:
-        raise AttributeError(f"module 'depthrefine' has no attribute {name!r}")
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_PUBLIC) | set(_SUBPACKAGES))
-
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _SUBPACKAGES)
 
 __all__ = [
     "refine",

@@ -2,15 +2,23 @@
 
 ``from .._lazy import cv2`` gives a stand-in whose first attribute access
 imports OpenCV; every later access goes straight to the module. The same for
-``scipy.ndimage`` and ``tifffile``. (matplotlib is imported inside the functions of ``viz``.)
+``scipy.ndimage`` and ``tifffile``, and for ``numpy`` in the few modules the
+command line reads to build its parser (:mod:`depthrefine.bench.protocols`). (matplotlib is imported inside the functions of ``viz``.)
+
+:func:`lazy_exports` does the same for a package's public names (PEP 562):
+the package's ``__init__`` lists where each name lives, and a module is
+imported when one of its names is first read, so that importing one light
+module of a package (the names the command line shows) does not import all
+of its siblings.
 """
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
+from typing import Any, Callable, Iterable, Mapping
 
-__all__ = ["LazyModule", "cv2", "ndimage", "tifffile"]
+__all__ = ["LazyModule", "lazy_exports", "cv2", "ndimage", "numpy", "tifffile"]
 
 
 class LazyModule:
@@ -40,6 +48,46 @@ class LazyModule:
         return f"<lazy module {self._name!r}, {state}>"
 
 
+def lazy_exports(package: str, exports: Mapping[str, Iterable[str]], submodules: Iterable[str] = ()) -> tuple[
+        Callable[[str], Any], Callable[[], list[str]]]:
+    """``__getattr__`` and ``__dir__`` for the package ``package`` (PEP 562).
+
+    ``exports`` maps each module, relative to the package, to the public
+    names it defines (``{".methods.registry": ("refine", "METHODS")}``), as
+    ``from .methods.registry import refine, METHODS`` would; ``submodules`` are
+    the package's modules reachable as attributes (``depthrefine.rig.shift``)
+    before anything imported them. A name is imported on first use and then
+    cached in the package's namespace, so later reads cost nothing.
+
+    Examples
+    --------
+    ``depthrefine`` itself is such a package:
+
+    >>> import depthrefine
+    >>> depthrefine.__getattr__("RefineParams").__name__, "RefineParams" in dir(depthrefine)
+    ('RefineParams', True)
+    """
+    module = importlib.import_module(package)
+    names = {name: source for source, defined in exports.items() for name in defined}
+    submodules = tuple(submodules)
+
+    def __getattr__(name: str) -> Any:
+        if name in names:
+            value = getattr(importlib.import_module(names[name], package), name)
+        elif name in submodules:
+            value = importlib.import_module(f".{name}", package)
+        else:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        setattr(module, name, value)
+        return value
+
+    def __dir__() -> list[str]:
+        return sorted(set(vars(module)) | set(names) | set(submodules))
+
+    return __getattr__, __dir__
+
+
 cv2 = LazyModule("cv2")
 ndimage = LazyModule("scipy.ndimage")
+numpy = LazyModule("numpy")
 tifffile = LazyModule("tifffile")

@@ -24,10 +24,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Sequence
 
-import numpy as np
-
-from ._lazy import cv2
-from ._validate import as_rgb_float
+# numpy and OpenCV load on first use, so that the command line can read the names here
+# (``depthrefine show --help``) without them (fast start-up).
+from ._lazy import cv2, numpy as np
 
 __all__ = [
     "DEPTH_COLORMAP",
@@ -59,7 +58,7 @@ INVALID_LABEL = "gray: no measurement"
 PANEL_KINDS = ("color", "depth", "error", "samples", "blend")
 #: Kinds drawn with the depth colormap and range.
 _DEPTH_KINDS = ("depth", "samples", "blend")
-_CV2_COLORMAPS = {"viridis": cv2.COLORMAP_VIRIDIS, "magma": cv2.COLORMAP_MAGMA}
+_CV2_COLORMAPS = {"viridis": "COLORMAP_VIRIDIS", "magma": "COLORMAP_MAGMA"}  # names in cv2
 
 
 @dataclass(frozen=True)
@@ -100,6 +99,8 @@ def to_rgb8(rgb: np.ndarray) -> np.ndarray:
     """Any checked color image (uint8, uint16, float in [0, 1]) as RGB uint8."""
     if rgb.dtype == np.uint8:
         return rgb
+    from ._validate import as_rgb_float
+
     return np.clip(as_rgb_float(rgb) * 255.0 + 0.5, 0, 255).astype(np.uint8)
 
 
@@ -139,7 +140,7 @@ def colorize_depth(depth: np.ndarray, *, limits: tuple[float, float] | None = No
     valid = np.isfinite(depth)
     scaled = np.zeros(depth.shape, dtype=np.uint8)
     scaled[valid] = np.clip((depth[valid] - lo) / max(hi - lo, 1e-12) * 255.0 + 0.5, 0, 255).astype(np.uint8)
-    rgb = cv2.cvtColor(cv2.applyColorMap(scaled, _CV2_COLORMAPS[colormap]), cv2.COLOR_BGR2RGB)
+    rgb = cv2.cvtColor(cv2.applyColorMap(scaled, getattr(cv2, _CV2_COLORMAPS[colormap])), cv2.COLOR_BGR2RGB)
     rgb[~valid] = INVALID_COLOR
     return rgb
 

@@ -10,40 +10,18 @@
 The files are read by :mod:`depthrefine.io` (the readers each protocol names).
 """
 
-from .protocols import (
-    LEFT_OUT_WHY,
-    LU_BORDER,
-    PROTOCOLS,
-    TUNING_SCENES,
-    Protocol,
-    bicubic_downsample,
-    crop_to_multiple,
-    get_protocol,
-    left_out_reason,
-    load_cases,
-    lu_case,
-    park_case,
-    register_protocol,
-    tof_case,
-    tof_seed,
-    tuned_on_scenes,
-)
-from .runner import (
-    DEFAULT_SCALES,
-    METRICS,
-    ROW_FIELDS,
-    BenchCase,
-    BenchResult,
-    BenchRow,
-    mean_and_count,
-    mean_or_nan,
-    parse_scales,
-    run_benchmark,
-)
+from .._lazy import lazy_exports
 
-__all__ = [
-    "Protocol", "PROTOCOLS", "register_protocol", "get_protocol", "load_cases", "TUNING_SCENES", "LEFT_OUT_WHY",
-    "left_out_reason", "tuned_on_scenes", "LU_BORDER", "bicubic_downsample", "crop_to_multiple", "park_case",
-    "lu_case", "tof_case", "tof_seed", "DEFAULT_SCALES", "METRICS", "ROW_FIELDS", "BenchCase", "BenchResult",
-    "BenchRow", "mean_and_count", "mean_or_nan", "parse_scales", "run_benchmark",
-]
+#: The public names by module, each imported on first use (PEP 562), so that ``depthrefine bench
+#: --help`` reads the protocols without importing the runner, the metrics and numpy (fast start-up).
+_EXPORTS = {
+    ".protocols": ("Protocol", "PROTOCOLS", "register_protocol", "get_protocol", "load_cases", "TUNING_SCENES",
+                   "LEFT_OUT_WHY", "left_out_reason", "tuned_on_scenes", "LU_BORDER", "bicubic_downsample",
+                   "crop_to_multiple", "park_case", "lu_case", "tof_case", "tof_seed"),
+    ".runner": ("DEFAULT_SCALES", "METRICS", "ROW_FIELDS", "BenchCase", "BenchResult", "BenchRow", "mean_and_count",
+                "mean_or_nan", "parse_scales", "run_benchmark"),
+}
+__all__ = [name for names in _EXPORTS.values() for name in names]
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, (
+    "metrics", "simulate", "synthetic", "protocols", "runner", "report"))

@@ -38,12 +38,15 @@ import functools
 import os
 import zlib
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Protocol as _Typing
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Protocol as _Typing
 
-import numpy as np
+# numpy, the runner and the simulator load on first use: ``depthrefine bench --help`` lists the
+# protocols (names, titles) without them (fast start-up).
+from .._lazy import numpy as np
 
-from .runner import BenchCase
-from .simulate import ToFModel, simulate_tof
+if TYPE_CHECKING:
+    from .runner import BenchCase
+    from .simulate import ToFModel
 
 __all__ = [
     "Protocol",
@@ -251,6 +254,8 @@ def bicubic_downsample(depth_gt: np.ndarray, scale: int) -> np.ndarray:
 def park_case(scene: str, scale: int, depth_lr: np.ndarray, rgb_hr: np.ndarray, depth_gt: np.ndarray,
               *, protocol: str = "park") -> BenchCase:
     """A case of the ``park`` protocol: the given noisy input, the whole ground-truth grid."""
+    from .runner import BenchCase
+
     h, w = depth_lr.shape[:2]
     rows, cols = h * scale, w * scale
     if rows > depth_gt.shape[0] or cols > depth_gt.shape[1]:
@@ -264,6 +269,8 @@ def park_case(scene: str, scale: int, depth_lr: np.ndarray, rgb_hr: np.ndarray, 
 
 def lu_case(protocol: str, scene: str, scale: int, rgb_hr: np.ndarray, depth_gt: np.ndarray) -> BenchCase:
     """A case of the ``middlebury30`` / ``lu`` protocol (crop, PIL bicubic input, 6-pixel border)."""
+    from .runner import BenchCase
+
     gt = crop_to_multiple(depth_gt, scale)
     rgb = rgb_hr[: gt.shape[0], : gt.shape[1]]
     return BenchCase(protocol, scene, scale, bicubic_downsample(gt, scale), rgb, gt_float(gt),
@@ -284,6 +291,9 @@ def tof_seed(scene: str, scale: int) -> int:
 def tof_case(scene: str, scale: int, rgb_hr: np.ndarray, depth_gt: np.ndarray,
              *, model: ToFModel | None = None) -> BenchCase:
     """A case of the ``tof`` protocol: simulated ToF input (:func:`simulate_tof`), whole grid."""
+    from .runner import BenchCase
+    from .simulate import simulate_tof
+
     gt = crop_to_multiple(depth_gt, scale)
     rgb = rgb_hr[: gt.shape[0], : gt.shape[1]]
     depth_lr = simulate_tof(gt, rgb, scale=scale, model=model, seed=tof_seed(scene, scale))
@@ -457,6 +467,8 @@ PAIRS = "pairs"
 
 
 def _pairs_build(protocol: Protocol, scene: Scene, scale: int, *, border: int = 0) -> BenchCase:
+    from .runner import BenchCase
+
     depth_lr = scene.inputs[scale]
     gt = gt_float(scene.depth_gt)
     if 2 * border >= min(gt.shape):
@@ -550,6 +562,7 @@ def realtof_case(scene: str, scale: int, guide: np.ndarray, depth: np.ndarray) -
     guide is :func:`realtof_guide`. Scored over the whole grid.
     """
     from ..methods.gbp import block_mean_valid
+    from .runner import BenchCase
 
     if scale not in REALTOF_SCALES:
         raise ValueError(f"the realtof protocol is defined at x{' and x'.join(map(str, REALTOF_SCALES))} only.")

@@ -1,4 +1,9 @@
-"""Options shared by several subcommands, defined once."""
+"""Options shared by several subcommands, defined once.
+
+Building a parser imports no numpy, OpenCV or method: ``--help`` stays fast
+(issue 13). What a command needs to run is imported by the function that
+runs it.
+"""
 
 from __future__ import annotations
 
@@ -7,13 +12,12 @@ import dataclasses
 import math
 import re
 import sys
-from typing import Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-import numpy as np
+from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames
 
-from ..io import read_mapping, read_patch_layout, scale_to_dtype
-from ..methods.registry import DEFAULT_METHOD, METHODS, get_method
-from ..methods.thesis.params import params_from_mapping
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = [
     "add_output",
@@ -96,7 +100,7 @@ def add_depth_options(parser: argparse.ArgumentParser) -> None:
 def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "--method",
                        method_help: str | None = None) -> None:
     """The refinement method (``method_flag``, dest ``method``), --patches / --patch-file, --clusters, --params."""
-    parser.add_argument(method_flag, dest="method", default=DEFAULT_METHOD, choices=sorted(METHODS),
+    parser.add_argument(method_flag, dest="method", default=DEFAULT_METHOD, choices=RegisteredMethodNames(),
                         help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD}, guided back-projection; "
                              "thesis: the thesis method as specified)")
     grid = parser.add_mutually_exclusive_group()
@@ -122,9 +126,12 @@ def depth_units_label(units: str | None, dtype: Any) -> str:
 
     Examples
     --------
+    >>> import numpy as np
     >>> depth_units_label(None, np.uint16), depth_units_label("mm", np.uint16)
     ('uint16 values as stored', 'mm')
     """
+    import numpy as np
+
     return units if units else f"{np.dtype(dtype).name} values as stored"
 
 
@@ -172,6 +179,10 @@ def output_depth(args: argparse.Namespace, depth: np.ndarray, input_dtype: Any) 
     cannot hold is an error (:func:`depthrefine.io.scale_to_dtype`) instead
     of a silent clip.
     """
+    import numpy as np
+
+    from ..io import scale_to_dtype
+
     dtype = np.dtype(args.output_dtype or input_dtype)
     if args.output_scale is None and args.output_dtype is None:
         return depth, dtype
@@ -209,6 +220,10 @@ def build_params(args: argparse.Namespace, *, method: str | None = None,
     ``patch_layout``, parameters for a method that takes none) are the same
     everywhere.
     """
+    from ..io import read_mapping, read_patch_layout
+    from ..methods.registry import get_method
+    from ..methods.thesis.params import params_from_mapping
+
     entry = get_method(args.method if method is None else method)
     thesis_options = [flag for flag, value in (("--patches", args.patches), ("--patch-file", args.patch_file),
                                                ("--clusters", args.clusters)) if value is not None]

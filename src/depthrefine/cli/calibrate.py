@@ -5,14 +5,16 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from ..rig.boards import MIN_VIEW_CORNERS, Board, BoardView, detect_board, usable
-from ..rig.calibrate import MIN_VIEWS, calibrate_from_views, calibrate_stereo_from_views
-from ..io import InputFileError, check_output, read_camera, read_depth, read_rgb, write_camera, write_rig
+from ..rig._names import MIN_VIEWS
 from . import CliError
 from ._common import add_overwrite
+
+if TYPE_CHECKING:  # what a command needs is imported where it runs: --help stays fast
+    import numpy as np
+
+    from ..rig.boards import Board, BoardView
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
@@ -105,6 +107,8 @@ def add_board_options(p: argparse.ArgumentParser, *, fit: bool = True) -> None:
 
 def board_from_args(args: argparse.Namespace, *, need_unit: bool = False) -> Board:
     """The :class:`Board` of --board, --square, --marker and --dictionary."""
+    from ..rig.boards import Board
+
     kind, grid = args.board
     square = _square(args, need_unit=need_unit)
     if kind == "checkerboard":
@@ -122,6 +126,8 @@ def board_from_args(args: argparse.Namespace, *, need_unit: bool = False) -> Boa
 
 def _read_intensity(path: str) -> np.ndarray:
     """A calibration image: color/gray 8/16-bit via read_rgb, else a one-channel float map."""
+    from ..io import InputFileError, read_depth, read_rgb
+
     try:
         return read_rgb(path)
     except InputFileError as first:
@@ -133,6 +139,8 @@ def _read_intensity(path: str) -> np.ndarray:
 
 def _detect(paths: list[str], board: Board, what: str) -> tuple[list[BoardView], tuple[int, int]]:
     """The board's corners in each image and the common (width, height)."""
+    from ..rig.boards import detect_board
+
     views, sizes = [], {}
     for path in paths:
         image = _read_intensity(path)
@@ -148,6 +156,8 @@ def _detect(paths: list[str], board: Board, what: str) -> tuple[list[BoardView],
 
 def _found(views: list[BoardView], board: Board) -> tuple[str, str]:
     """What was found (``"; ..."``) and what to check, for an error message."""
+    from ..rig.boards import MIN_VIEW_CORNERS
+
     if board.kind == "checkerboard":
         return (f"; OpenCV finds all {board.points.shape[0]} inner corners of the {board.spec} checkerboard or none",
                 "Check --board (inner corners, COLSxROWS)")
@@ -180,6 +190,12 @@ def _square(args: argparse.Namespace, *, need_unit: bool) -> float:
 
 
 def run_calibrate(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..io import check_output, write_camera
+    from ..rig.boards import usable
+    from ..rig.calibrate import calibrate_from_views
+
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=tuple(args.images))
     board = board_from_args(args)
     found, size = _detect(args.images, board, "image")
@@ -211,6 +227,12 @@ def run_calibrate(args: argparse.Namespace) -> int:
 
 
 def run_calibrate_stereo(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..io import check_output, read_camera, write_rig
+    from ..rig.boards import usable
+    from ..rig.calibrate import calibrate_stereo_from_views
+
     inputs = tuple(args.depth_images) + tuple(args.color_images)
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=inputs)
     if len(args.depth_images) != len(args.color_images):

@@ -8,9 +8,8 @@ import sys
 import time
 
 from .. import __version__, viz
-from ..evaluate import rmse
-from ..io import SAMPLE_SCALES, SCENES, atomic_directory, load_sample, sample_folder, write_depth, write_figure
-from ..methods.registry import DEFAULT_METHOD, METHODS, refine
+from ..io._names import SAMPLE_SCALES, SCENES
+from ..methods._names import DEFAULT_METHOD
 from ._common import add_overwrite, params_dict, progress_bar
 
 #: The OpenCV peers the demo compares; the figure shows the best of them on the scene.
@@ -75,6 +74,10 @@ def run(args: argparse.Namespace) -> int:
         from ._demo_scenes import run_scene
 
         return run_scene(args)
+    from ..evaluate import rmse
+    from ..io import atomic_directory, load_sample, sample_folder, write_depth, write_figure
+    from ..methods.registry import METHODS, refine
+
     default = DEFAULT_METHOD
     names = list(dict.fromkeys(["nearest", "bilinear", *[m for m in PEERS if m in METHODS], "thesis", default]))
     with atomic_directory(args.output, overwrite=args.overwrite) as tmp:

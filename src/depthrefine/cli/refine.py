@@ -8,16 +8,7 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from .. import __version__
-from .._validate import as_depth
-from ..io import (DEPTH_SUFFIXES, check_depth_format, atomic_directory, check_output, check_output_dir, read_depth, read_rgb,
-                  write_depth, write_figure, write_rgb)
-from ..methods.registry import get_method, refine
-from ..methods.thesis.refine import refine_with_intermediates
-from ..methods.scale import plan_scale
-from .. import viz
 from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
                       add_units_option, build_params, depth_units_label, output_depth, params_dict, progress_bar)
 
@@ -49,6 +40,14 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from .. import viz
+    from .._validate import as_depth
+    from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_output, check_output_dir, read_depth,
+                      read_rgb, write_depth, write_figure)
+    from ..methods.registry import get_method, refine
+    from ..methods.scale import plan_scale
+    from ..methods.thesis.refine import refine_with_intermediates
+
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES,
                        inputs=(args.depth, args.color))
     if args.save_intermediate:
@@ -140,6 +139,11 @@ def _write_intermediates(folder: Path, depth_hr, rgb_hr, result, record, *, unit
     ``factor`` is --output-scale, so the sparse samples are drawn in the
     same units as the result.
     """
+    import numpy as np
+
+    from .. import viz
+    from ..io import write_figure, write_rgb
+
     limits = viz.depth_limits(depth_hr)
 
     def picture(name: str, panel) -> None:

@@ -7,8 +7,6 @@ import sys
 from pathlib import Path
 
 from .. import viz
-from .._validate import as_depth
-from ..io import check_output, read_depth, read_rgb, write_figure
 from ._common import add_depth_options, add_overwrite, add_units_option, depth_units_label, parse_range
 
 
@@ -35,6 +33,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from .._validate import as_depth
+    from ..io import check_output, read_depth, read_rgb, write_figure
+
     inputs = (args.depth,) + ((args.color,) if args.color else ())
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".png",), inputs=inputs)
     raw = read_depth(args.depth, saturated_invalid=args.saturated_invalid)

@@ -9,11 +9,10 @@ import numpy as np
 
 from ..rig.boards import Board, render_board
 from ._files import InputFileError, atomic_write, check_output
+from ._names import PAPER_SIZES_MM
 
 __all__ = ["PAPER_SIZES_MM", "PAGE_MARGIN_MM", "write_board_png", "write_board_pdf"]
 
-#: Paper sizes (width, height) in millimetres, portrait.
-PAPER_SIZES_MM = {"A4": (210.0, 297.0), "Letter": (215.9, 279.4)}
 #: White margin kept on every side of the page (printers cannot print to the edge), millimetres.
 PAGE_MARGIN_MM = 6.0
 #: Space under the board for the ruler bar and the check line, millimetres.

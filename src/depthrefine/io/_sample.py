@@ -15,14 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ._images import read_depth, read_rgb
+from ._names import SAMPLE_SCALES, SCENES
 
 __all__ = ["SampleScene", "load_sample", "SAMPLE_SCALES", "sample_folder", "SCENES", "RealCapture", "load_capture"]
-
-#: The shipped scenes (``depthrefine demo --scene``).
-SCENES = ("art", "mug", "bookshelf")
-
-#: Scale factors of the shipped low-resolution inputs.
-SAMPLE_SCALES = (4, 8, 16)
 
 
 @dataclass(frozen=True)

@@ -41,14 +41,12 @@ import numpy as np
 from .._validate import check_rgb
 from ._files import InputFileError
 from ._images import DEPTH_SUFFIXES, read_depth, read_rgb
+from ._names import DEFAULT_MAX_DT
 
 __all__ = ["Frame", "Sequence", "open_sequence", "COLOR_SUFFIXES"]
 
 #: Color file extensions a folder's ``color/`` may hold.
 COLOR_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".npy", ".ppm", ".webp")
-
-#: Default pairing tolerance for bags, seconds.
-DEFAULT_MAX_DT = 0.020
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,14 @@
 
 A new method is a module here with a function
 ``func(depth_lr, rgb_hr, *, params=None, progress=None) -> depth_hr`` and one
-:func:`register_method` call in ``registry``.
+:func:`register_method` call in ``registry``. The names below are imported on
+first use, so the command line can read the method names (``_names``) without
+importing the methods.
 """
 
-from .registry import METHODS, Method, get_method, refine, register_method
+from .._lazy import lazy_exports
 
 __all__ = ["METHODS", "Method", "get_method", "refine", "register_method"]
+
+__getattr__, __dir__ = lazy_exports(__name__, {".registry": __all__},
+                                    ("registry", "baselines", "peers", "gbp", "scale", "thesis"))

@@ -19,15 +19,12 @@ import numpy as np
 
 from . import baselines, gbp, peers
 from .._validate import check_pixels
+from ._names import DEFAULT_METHOD
 from .scale import plan_scale
 from .thesis.params import RefineParams
 from .thesis.refine import refine_thesis, refine_thesis_stateful
 
 __all__ = ["Method", "METHODS", "DEFAULT_METHOD", "register_method", "get_method", "refine"]
-
-#: The method of :func:`refine` and of the commands when none is named: guided
-#: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).
-DEFAULT_METHOD = "gbp"
 
 
 @dataclass(frozen=True)
@@ -216,7 +213,7 @@ register_method("fgs", peers.upsample_fgs, params_type=peers.FastGlobalSmootherP
 register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParams,
                 summary="bilinear, then OpenCV weighted median filter (Zhang 2014); not bit-identical from run "
                         "to run (OpenCV 5.0.0's filter)", deterministic=False)
-if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen have a working solver
+if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen have a working solver (_names.PROBED_METHODS)
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
 register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,

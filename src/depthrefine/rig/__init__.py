@@ -14,71 +14,28 @@
 Everything here is pure (arrays in, arrays out); files are read by :mod:`depthrefine.io`.
 """
 
-from .camera import CameraModel, StereoRig, check_camera_shape
-from .boards import (BOARD_KINDS, DICTIONARIES, MIN_VIEW_CORNERS, Board, BoardView, board_points, to_gray8,
-                     find_board_corners, detect_board, render_board)
-from .calibrate import (MIN_VIEWS, calibrate_from_views, calibrate_from_corners, calibrate_camera,
-                        calibrate_stereo_from_views, calibrate_stereo_from_corners, calibrate_stereo)
-from .formats import K4A_DEPTH_MODES, K4A_COLOR_RESOLUTIONS, rig_from_k4a, camera_from_opencv, camera_from_ros
-from .undistort import undistort_maps, distort_maps, undistort_depth, undistort_image, distort_depth, distort_image
-from .shift import COLOR_SIDES, ENCODINGS, MAX_PARALLEL_ROTATION, MAX_SHIFT_MISREGISTRATION, AlignmentWarning, background_depth, align_shift, ShiftModel, shift_from_rig, shift_misregistration
-from .reproject import reproject_camera, align_reproject
-from .pointcloud import depth_to_metres, metres_to_depth, pixel_rays, backproject, project_points, depth_to_points
-from .chain import ALIGN_METHODS, AlignSettings, AlignedPair, align_depth, align_pair
+from .._lazy import lazy_exports
 
-__all__ = [
-    "CameraModel",
-    "StereoRig",
-    "check_camera_shape",
-    "BOARD_KINDS",
-    "DICTIONARIES",
-    "MIN_VIEW_CORNERS",
-    "Board",
-    "BoardView",
-    "board_points",
-    "to_gray8",
-    "find_board_corners",
-    "detect_board",
-    "render_board",
-    "MIN_VIEWS",
-    "calibrate_from_views",
-    "calibrate_from_corners",
-    "calibrate_camera",
-    "calibrate_stereo_from_views",
-    "calibrate_stereo_from_corners",
-    "calibrate_stereo",
-    "K4A_DEPTH_MODES",
-    "K4A_COLOR_RESOLUTIONS",
-    "rig_from_k4a",
-    "camera_from_opencv",
-    "camera_from_ros",
-    "undistort_maps",
-    "distort_maps",
-    "undistort_depth",
-    "undistort_image",
-    "distort_depth",
-    "distort_image",
-    "COLOR_SIDES",
-    "ENCODINGS",
-    "MAX_PARALLEL_ROTATION",
-    "MAX_SHIFT_MISREGISTRATION",
-    "AlignmentWarning",
-    "background_depth",
-    "align_shift",
-    "ShiftModel",
-    "shift_from_rig",
-    "shift_misregistration",
-    "reproject_camera",
-    "align_reproject",
-    "depth_to_metres",
-    "metres_to_depth",
-    "pixel_rays",
-    "backproject",
-    "project_points",
-    "depth_to_points",
-    "ALIGN_METHODS",
-    "AlignSettings",
-    "AlignedPair",
-    "align_depth",
-    "align_pair",
-]
+#: The public names by module, each imported on first use (PEP 562), so that the command line can
+#: read :mod:`._names` without importing the rig's modules (fast start-up).
+_EXPORTS = {
+    ".camera": ("CameraModel", "StereoRig", "check_camera_shape"),
+    ".boards": ("BOARD_KINDS", "DICTIONARIES", "MIN_VIEW_CORNERS", "Board", "BoardView", "board_points", "to_gray8",
+                "find_board_corners", "detect_board", "render_board"),
+    ".calibrate": ("MIN_VIEWS", "calibrate_from_views", "calibrate_from_corners", "calibrate_camera",
+                   "calibrate_stereo_from_views", "calibrate_stereo_from_corners", "calibrate_stereo"),
+    ".formats": ("K4A_DEPTH_MODES", "K4A_COLOR_RESOLUTIONS", "rig_from_k4a", "camera_from_opencv", "camera_from_ros"),
+    ".undistort": ("undistort_maps", "distort_maps", "undistort_depth", "undistort_image", "distort_depth",
+                   "distort_image"),
+    ".shift": ("COLOR_SIDES", "ENCODINGS", "MAX_PARALLEL_ROTATION", "MAX_SHIFT_MISREGISTRATION",
+               "AlignmentWarning", "background_depth", "align_shift", "ShiftModel", "shift_from_rig",
+               "shift_misregistration"),
+    ".reproject": ("reproject_camera", "align_reproject"),
+    ".pointcloud": ("depth_to_metres", "metres_to_depth", "pixel_rays", "backproject", "project_points",
+                    "depth_to_points"),
+    ".chain": ("ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair"),
+}
+__all__ = [name for names in _EXPORTS.values() for name in names]
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, (
+    "camera", "boards", "calibrate", "formats", "undistort", "shift", "reproject", "pointcloud", "chain", "edges"))

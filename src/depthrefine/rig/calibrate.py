@@ -28,6 +28,7 @@ import numpy as np
 
 from .._lazy import cv2
 from .._validate import is_int
+from ._names import MIN_VIEWS
 from .boards import MIN_VIEW_CORNERS, Board, BoardView, detect_board, usable
 from .camera import CameraModel, StereoRig
 
@@ -41,12 +42,6 @@ __all__ = [
     "calibrate_stereo_from_corners",
     "calibrate_stereo",
 ]
-
-#: Fewest board views a calibration accepts. Zhang's method needs three
-#: views of a plane for the five intrinsic parameters; 10-20 views that
-#: cover the whole image give a good distortion estimate.
-MIN_VIEWS = 3
-
 
 
 def as_board(board: Board | tuple[int, int], square_size: float | None = None) -> Board:

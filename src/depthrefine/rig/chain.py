@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import check_choice, check_depth, check_number, check_rgb
+from ._names import ALIGN_METHODS
 from .camera import CameraModel, StereoRig, check_camera_shape
 from .reproject import align_reproject, reproject_camera
 from .shift import (COLOR_SIDES, ENCODINGS, MAX_SHIFT_MISREGISTRATION, align_shift, background_depth, shift_from_rig, shift_misregistration)
@@ -23,11 +24,6 @@ from .undistort import undistort_depth, undistort_image
 
 __all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "unmeasured_on_grid",
            "keep_unmeasured"]
-
-
-
-#: Alignment methods of :func:`align_pair` (keys of the chain settings' ``method``).
-ALIGN_METHODS = ("reproject", "shift")
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from ._names import CALIBRATION_FORMATS, K4A_COLOR_RESOLUTIONS, K4A_DEPTH_MODES
 from .camera import CameraModel, StereoRig
 
 __all__ = [
@@ -46,31 +47,6 @@ __all__ = [
     "camera_from_opencv",
     "camera_from_ros",
 ]
-
-# mode: (calibration resolution (w, h), crop offset (x, y), output size (w, h)); the SDK's table.
-#: Azure Kinect depth modes.
-K4A_DEPTH_MODES: dict[str, tuple[tuple[int, int], tuple[int, int], tuple[int, int]]] = {
-    "NFOV_2X2BINNED": ((512, 512), (96, 90), (320, 288)),
-    "NFOV_UNBINNED": ((1024, 1024), (192, 180), (640, 576)),
-    "WFOV_2X2BINNED": ((512, 512), (0, 0), (512, 512)),
-    "WFOV_UNBINNED": ((1024, 1024), (0, 0), (1024, 1024)),
-    "PASSIVE_IR": ((1024, 1024), (0, 0), (1024, 1024)),
-}
-#: Azure Kinect color resolutions.
-K4A_COLOR_RESOLUTIONS: dict[str, tuple[tuple[int, int], tuple[int, int], tuple[int, int]]] = {
-    "720P": ((1280, 960), (0, 120), (1280, 720)),
-    "1080P": ((1920, 1440), (0, 180), (1920, 1080)),
-    "1440P": ((2560, 1920), (0, 240), (2560, 1440)),
-    "1536P": ((2048, 1536), (0, 0), (2048, 1536)),
-    "2160P": ((3840, 2880), (0, 360), (3840, 2160)),
-    "3072P": ((4096, 3072), (0, 0), (4096, 3072)),
-}
-#: The formats :func:`calibration_format` recognises, with the name shown to users.
-CALIBRATION_FORMATS = {
-    "k4a": "Azure Kinect calibration (K4A calibration.json)",
-    "opencv": "OpenCV FileStorage YAML (K, dist, img_size)",
-    "ros": "ROS camera_info YAML",
-}
 
 _K4A_DEPTH = "CALIBRATION_CameraPurposeDepth"
 _K4A_COLOR = "CALIBRATION_CameraPurposePhotoVideo"

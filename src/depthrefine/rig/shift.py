@@ -41,6 +41,7 @@ import numpy as np
 
 from .._fill import fill_invalid_nearest
 from .._validate import as_depth, check_choice, check_number
+from ._names import COLOR_SIDES, ENCODINGS
 from .camera import StereoRig
 from .pointcloud import _conversion
 
@@ -57,12 +58,6 @@ __all__ = [
     "shift_misregistration",
 ]
 
-#: Where the color camera sits, seen from behind the depth camera.
-COLOR_SIDES = ("right", "left")
-#: How a depth value relates to distance: "inverse" (the thesis's depth
-#: intensity, disparity: larger = nearer) or "distance" (mm, m: larger = farther).
-ENCODINGS = ("inverse", "distance")
-
 #: A rig rotated more than this (degrees) is not the parallel rig the shift assumes.
 MAX_PARALLEL_ROTATION = 2.0
 #: The chain refuses the shift alignment when the background lands farther than this (depth pixels)
@@ -72,7 +67,6 @@ MAX_SHIFT_MISREGISTRATION = 1.0
 
 class AlignmentWarning(UserWarning):
     """The rig does not fit the assumptions of the chosen alignment."""
-
 
 
 def background_depth(depth: np.ndarray, *, encoding: str = "inverse") -> float:

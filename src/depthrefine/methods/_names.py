@@ -1,0 +1,60 @@
+"""The built-in methods' names and the default method, importable without numpy or OpenCV.
+
+The command line shows these in ``--help`` (``--method`` choices, defaults)
+without importing the methods, so that ``depthrefine refine --help`` starts
+fast (issue 13); :mod:`.registry` registers exactly these, in this order.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Iterator
+
+__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "RegisteredMethodNames"]
+
+#: The method of :func:`depthrefine.refine` and of the commands when none is named: guided
+#: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).
+DEFAULT_METHOD = "gbp"
+
+#: Every built-in method, in the order the registry registers them.
+BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp")
+
+#: Built-in methods registered only where a check at the registry's import says they work: the fast
+#: bilateral solver needs an OpenCV built with Eigen (:func:`~depthrefine.methods.peers.fast_bilateral_solver_status`).
+PROBED_METHODS = ("fbs",)
+
+_REGISTRY = "depthrefine.methods.registry"
+
+
+class RegisteredMethodNames:
+    """The names of the registered methods, for ``--method`` (``choices``) and ``--help``.
+
+    Listing them (``iter``) reads :data:`~depthrefine.methods.registry.METHODS`
+    when the registry is imported already, else :data:`BUILTIN_METHODS`
+    without :data:`PROBED_METHODS` (the methods that need no check of the
+    installed OpenCV), so ``--help`` imports neither numpy nor OpenCV.
+    Asking whether a name is one of them (``in``) imports the registry: a
+    command is about to run it.
+
+    Examples
+    --------
+    >>> names = RegisteredMethodNames()
+    >>> "gbp" in names, "no-such-method" in names
+    (True, False)
+    >>> ("fbs" in names) == ("fbs" in list(names))
+    True
+    """
+
+    def __init__(self, *, ordered: bool = False):
+        self.ordered = ordered  # False: sorted by name (as --method lists them); True: registration order
+
+    def __iter__(self) -> Iterator[str]:
+        registry = sys.modules.get(_REGISTRY)
+        names = list(registry.METHODS) if registry is not None else [
+            m for m in BUILTIN_METHODS if m not in PROBED_METHODS]
+        return iter(names if self.ordered else sorted(names))
+
+    def __contains__(self, name: object) -> bool:
+        from .registry import METHODS
+
+        return name in METHODS
