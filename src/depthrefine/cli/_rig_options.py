@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..io import ChainSettings, read_chain_settings
-from ..rig.chain import ALIGN_METHODS
-from ..rig.shift import COLOR_SIDES, ENCODINGS
+from ..rig._names import ALIGN_METHODS, COLOR_SIDES, ENCODINGS
 from . import CliError
+
+if TYPE_CHECKING:
+    from ..io import ChainSettings
 
 __all__ = ["add_units_options", "add_align_options", "chain_settings"]
 
@@ -59,6 +60,8 @@ def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argpars
 
 def chain_settings(args: argparse.Namespace) -> ChainSettings:
     """The chain settings of ``--rig`` (and ``--settings``), with the command-line options on top."""
+    from ..io import read_chain_settings
+
     base = read_chain_settings(args.rig)
     settings_file = getattr(args, "settings", None)
     if settings_file:

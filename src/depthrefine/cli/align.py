@@ -5,10 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-
-from ..rig.chain import align_depth
-from ..io import (DEPTH_SUFFIXES, check_depth_format, check_output, read_depth,
-                  write_depth)
 from ._common import add_depth_options, add_overwrite
 from ._rig_options import add_align_options, chain_settings
 
@@ -38,6 +34,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run_align(args: argparse.Namespace) -> int:
+    from ..io import DEPTH_SUFFIXES, check_depth_format, check_output, read_depth, write_depth
+    from ..rig.chain import align_depth
+
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES, inputs=(args.depth, args.rig))
     settings = chain_settings(args)
     depth = read_depth(args.depth, saturated_invalid=args.saturated_invalid)

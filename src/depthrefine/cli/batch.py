@@ -12,9 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..io import InputFileError, atomic_write, open_sequence, write_depth
-from ..io._sequences import DEFAULT_MAX_DT
-from ..methods.registry import get_method
+from ..io._files import InputFileError, atomic_write
+from ..io._names import DEFAULT_MAX_DT
 from ._common import add_depth_options, add_output, add_overwrite, add_params_options, build_params, params_dict, \
     parse_count, progress_bar
 
@@ -69,6 +68,8 @@ def parse_duration(text: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ..batch import DEFAULT_CHUNK, local_client, needed_keys, run_frames
+    from ..io import open_sequence, write_depth
+    from ..methods.registry import get_method
 
     if args.chunk is not None and not args.temporal:
         raise ValueError("--chunk applies to --temporal only; add --temporal or drop --chunk.")

@@ -11,11 +11,8 @@ from pathlib import Path
 from .. import __version__
 from ..bench.protocols import (PAIRS, PROTOCOLS, TUNING_SCENES, left_out_reason, load_cases, pairs_protocol,
                                register_protocol, tuned_on_scenes)
-from ..bench.runner import DEFAULT_SCALES, parse_scales, run_benchmark
-from ..io import InputFileError, atomic_directory, check_output_dir
-from ..methods.registry import METHODS, get_method
-from ..methods.peers import fast_bilateral_solver_status
-from ..bench import report
+from ..io._files import InputFileError, atomic_directory, check_output_dir
+from ..methods._names import RegisteredMethodNames
 from ._common import add_units_option, params_dict
 
 #: The environment variable naming the data folder when ``--data`` is not given.
@@ -50,7 +47,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="; ".join(f"{name}: {entry.title}" for name, entry in published.items())
                         + "; or all (default; not with --pairs)")
     p.add_argument("--methods", metavar="A,B,C",
-                   help=f"comma-separated methods (default: all registered: {','.join(METHODS)})")
+                   help=f"comma-separated methods (default: all registered: {','.join(RegisteredMethodNames(ordered=True))})")
     p.add_argument("--scales", default=None, metavar="4,8,16",
                    help="comma-separated upsampling factors (default: 4,8,16; with --pairs the files give them)")
     add_units_option(p, help="--pairs: the depth's units, a label for the tables and colorbars (e.g. mm); "
@@ -89,6 +86,8 @@ def _data_dir(arg: str | None) -> Path:
 
 
 def _methods(arg: str | None) -> list[str]:
+    from ..methods.registry import METHODS, get_method
+
     if arg is None:
         return list(METHODS)
     names = [m.strip() for m in arg.split(",") if m.strip()]
@@ -100,6 +99,8 @@ def _methods(arg: str | None) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..bench import report
+
     methods = _methods(args.methods)
     if args.report:
         check_output_dir(args.report, overwrite=args.overwrite, what="report folder")
@@ -142,6 +143,8 @@ def _pair_cases(args: argparse.Namespace):
 
 def _protocol_cases(args: argparse.Namespace):
     """The cases of the published protocols under ``--data`` (or its default)."""
+    from ..bench.runner import DEFAULT_SCALES, parse_scales
+
     scales = parse_scales(args.scales if args.scales is not None else ",".join(map(str, DEFAULT_SCALES)))
     data = _data_dir(args.data)
     protocol = args.protocol or "all"
@@ -183,6 +186,9 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
     """Run case by case (results kept only for the figure of that case), writing the report into ``folder``."""
     from tqdm import tqdm
 
+    from ..bench import report
+    from ..bench.runner import run_benchmark
+
     figure_scale = 8 if 8 in scales else max(scales)
     total = len(cases) * len(methods)
     rows = []
@@ -214,6 +220,10 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
 
 
 def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
+    from ..bench import report
+    from ..methods.peers import fast_bilateral_solver_status
+    from ..methods.registry import get_method
+
     params_used = {m: params_dict(get_method(m).default_params()) for m in methods}
     tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES if tuned_on_scenes(p))
     left_out = "; ".join(f"{p} {s} ({left_out_reason(p, s)})" for p, scenes in TUNING_SCENES.items() for s in scenes)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..io import PAPER_SIZES_MM, write_board_pdf, write_board_png
+from ..io._names import PAPER_SIZES_MM
 from . import CliError
 from ._common import add_overwrite
 from .calibrate import add_board_options, board_from_args
@@ -32,6 +32,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..io import write_board_pdf, write_board_png
+
     board = board_from_args(args)
     suffix = args.output.lower().rsplit(".", 1)[-1] if "." in args.output else ""
     if suffix == "pdf":

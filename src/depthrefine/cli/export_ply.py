@@ -5,9 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..io import check_output, read_camera, read_chain_settings, read_depth, read_mapping, read_rgb, write_ply
-from ..rig.pointcloud import depth_to_points
-from ..rig.undistort import undistort_image
 from . import CliError
 from ._common import add_depth_options, add_overwrite
 from ._rig_options import add_units_options
@@ -42,6 +39,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run_export_ply(args: argparse.Namespace) -> int:
+    from ..io import check_output, read_camera, read_chain_settings, read_depth, read_rgb, write_ply
+    from ..rig.pointcloud import depth_to_points
+    from ..rig.undistort import undistort_image
+
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".ply",), inputs=(args.depth, args.color))
     if args.stride < 1:
         raise CliError(f"--stride must be >= 1; got {args.stride}.")
@@ -76,6 +77,8 @@ def run_export_ply(args: argparse.Namespace) -> int:
 
 
 def _is_settings(path: str) -> bool:
+    from ..io import read_mapping
+
     data = read_mapping(path, what="rig")
     return any(k in data for k in ("align", "refine", "rig"))
 

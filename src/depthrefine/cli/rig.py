@@ -5,13 +5,14 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from ..io import check_output, read_calibration, write_camera, write_rig
-from ..rig.camera import CameraModel
-from ..rig.formats import CALIBRATION_FORMATS, K4A_COLOR_RESOLUTIONS, K4A_DEPTH_MODES
+from ..rig._names import CALIBRATION_FORMATS, K4A_COLOR_RESOLUTIONS, K4A_DEPTH_MODES
 from ._common import add_overwrite, add_shared_options
+
+
+if TYPE_CHECKING:
+    from ..rig.camera import CameraModel
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -53,6 +54,11 @@ def _camera_line(name: str, camera: CameraModel) -> str:
 
 
 def run_import(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..io import check_output, read_calibration, write_camera, write_rig
+    from ..rig.camera import CameraModel
+
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=(args.file,))
     calibration, kind = read_calibration(args.file, depth_mode=args.depth_mode,
                                          color_resolution=args.color_resolution)

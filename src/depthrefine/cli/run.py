@@ -6,21 +6,17 @@ import argparse
 import contextlib
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from ..rig.chain import align_pair, keep_unmeasured
-from ..io import (DEPTH_SUFFIXES, check_depth_format, ChainSettings, check_output, read_depth,
-                  read_rgb, write_chain_settings, write_depth, write_ply)
-from ..methods.registry import DEFAULT_METHOD, METHODS, refine
-from ..rig.chain import ALIGN_METHODS
-from ..rig.pointcloud import depth_to_points
-from ..methods.scale import plan_scale
+from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames
+from ..rig._names import ALIGN_METHODS
 from . import CliError
 from ._rig_options import add_align_options, chain_settings
 from ._common import (add_deprecated_alias, add_depth_options, add_output_format_options, add_overwrite,
                       add_params_options, build_params, output_depth, params_dict, progress_bar)
+
+if TYPE_CHECKING:
+    from ..io import ChainSettings
 
 
 class _AlignMethod(argparse.Action):
@@ -34,7 +30,7 @@ class _AlignMethod(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):
         if values in ALIGN_METHODS:
             namespace.align_method = values
-        elif values in METHODS:
+        elif values in RegisteredMethodNames():
             print(f"depthrefine: note: run {option_string} {values} for the refinement method is deprecated; "
                   f"use --refine-method {values} ({option_string} is the alignment method: "
                   f"{', '.join(ALIGN_METHODS)}).", file=sys.stderr)
@@ -100,6 +96,15 @@ def _refine_params(args: argparse.Namespace, chain: ChainSettings) -> tuple[str,
 
 
 def run_chain(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_output, read_depth, read_rgb,
+                      write_chain_settings, write_depth, write_ply)
+    from ..methods.registry import refine
+    from ..methods.scale import plan_scale
+    from ..rig.chain import align_pair, keep_unmeasured
+    from ..rig.pointcloud import depth_to_points
+
     inputs = (args.depth, args.color, args.rig, args.settings)
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES, inputs=inputs)
     extra_outputs = {}

@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..io import DEPTH_SUFFIXES, check_depth_format, check_output, read_camera, read_depth, read_rgb, write_depth, write_rgb
-from ..rig.undistort import undistort_depth, undistort_image
 from . import CliError
 from ._common import add_depth_options, add_overwrite
 
@@ -33,6 +31,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run_undistort(args: argparse.Namespace) -> int:
+    from ..io import (DEPTH_SUFFIXES, check_depth_format, check_output, read_camera, read_depth, read_rgb,
+                      write_depth, write_rgb)
+    from ..rig.undistort import undistort_depth, undistort_image
+
     out = check_output(args.output, overwrite=args.overwrite, inputs=(args.image, args.camera))
     camera = read_camera(args.camera, which="color" if args.color else "depth")
     if args.intensity:
