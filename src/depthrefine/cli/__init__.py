@@ -5,6 +5,13 @@ One subcommand per module in this package; each module has
 function of the parsed arguments returning an exit status. Commands are thin:
 parse, read with :mod:`depthrefine.io`, call the library, write.
 
+Building a parser imports no numpy, OpenCV, SciPy or matplotlib, so that
+``--help`` starts fast (issue 13): ``add_parser`` reads names and defaults
+from the light modules ``methods/_names.py``, ``rig/_names.py`` and
+``io/_names.py`` (and ``bench.protocols``, ``viz``, which load numpy on first
+use), and the command's function imports what it runs.
+``tests/test_startup.py`` checks every command's ``--help``.
+
 Exit status: 0 success; 2 bad input (one line on stderr naming the file or
 argument and what to do, no traceback, no output left behind); 1 internal
 failure (traceback only with ``--debug``); 130 interrupted.
