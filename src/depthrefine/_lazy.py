@@ -2,8 +2,9 @@
 
 ``from .._lazy import cv2`` gives a stand-in whose first attribute access
 imports OpenCV; every later access goes straight to the module. The same for
-``scipy.ndimage`` and ``tifffile``, and for ``numpy`` in the few modules the
-command line reads to build its parser (:mod:`depthrefine.bench.protocols`). (matplotlib is imported inside the functions of ``viz``.)
+``scipy.ndimage`` and ``tifffile``, and for ``numpy`` in the two modules the
+command line reads to build its parser (:mod:`depthrefine.bench.protocols`,
+:mod:`depthrefine.viz`). (matplotlib is imported inside the functions of ``viz``.)
 
 :func:`lazy_exports` does the same for a package's public names (PEP 562):
 the package's ``__init__`` lists where each name lives, and a module is

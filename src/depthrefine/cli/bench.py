@@ -46,8 +46,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--protocol", default=None, choices=[*published, "all"],
                    help="; ".join(f"{name}: {entry.title}" for name, entry in published.items())
                         + "; or all (default; not with --pairs)")
+    registered = ",".join(RegisteredMethodNames(ordered=True))
     p.add_argument("--methods", metavar="A,B,C",
-                   help=f"comma-separated methods (default: all registered: {','.join(RegisteredMethodNames(ordered=True))})")
+                   help=f"comma-separated methods (default: all registered: {registered})")
     p.add_argument("--scales", default=None, metavar="4,8,16",
                    help="comma-separated upsampling factors (default: 4,8,16; with --pairs the files give them)")
     add_units_option(p, help="--pairs: the depth's units, a label for the tables and colorbars (e.g. mm); "

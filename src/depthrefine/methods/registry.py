@@ -213,7 +213,8 @@ register_method("fgs", peers.upsample_fgs, params_type=peers.FastGlobalSmootherP
 register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParams,
                 summary="bilinear, then OpenCV weighted median filter (Zhang 2014); not bit-identical from run "
                         "to run (OpenCV 5.0.0's filter)", deterministic=False)
-if peers.fast_bilateral_solver_available():  # only builds of OpenCV with Eigen have a working solver (_names.PROBED_METHODS)
+# Only builds of OpenCV with Eigen have a working solver (listed in _names.PROBED_METHODS).
+if peers.fast_bilateral_solver_available():
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
 register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,
