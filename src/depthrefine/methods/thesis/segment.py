@@ -206,6 +206,8 @@ def kmeans(
     x = np.asarray(features, dtype=np.float32)
     if x.ndim != 2 or x.shape[0] == 0:
         raise ValueError(f"features must be a non-empty (N, D) array; got shape {x.shape}.")
+    if not np.isfinite(x).all():
+        raise ValueError("features must be finite (no NaN or inf).")
     w = np.ones(x.shape[0]) if weights is None else np.asarray(weights, dtype=np.float64)
     labels, means = _lloyd(x, w, initial_means(x, n_clusters), iterations)
     if init_means is not None:
@@ -221,33 +223,10 @@ def kmeans(
 
 def _lloyd(x: np.ndarray, w: np.ndarray, means: np.ndarray, iterations: int) -> tuple[np.ndarray, np.ndarray]:
     """``iterations`` rounds of assignment and update from ``means``; empty clusters dropped, labels renumbered."""
-    n, dims = x.shape
-    wx = (w[:, None] * x).ravel()
-    dim_index = np.tile(np.arange(dims), n)
-    cols = np.ascontiguousarray(x.T)
-    labels = _assign(cols, means)
-    for _ in range(iterations):
-        k = len(means)
-        counts = np.bincount(labels, weights=w, minlength=k)
-        sums = np.bincount(np.repeat(labels, dims) * dims + dim_index, weights=wx, minlength=k * dims)
-        keep = counts > 0
-        means = sums.reshape(k, dims)[keep] / counts[keep, None]
-        labels = _assign(cols, means)
-    used = np.bincount(labels, minlength=len(means)) > 0
-    if not used.all():
-        remap = np.cumsum(used) - 1
-        labels = remap[labels].astype(np.int32)
-        means = means[used]
-    return labels.astype(np.int32, copy=False), means
+    from . import _jit
 
-
-def _assign(cols: np.ndarray, means: np.ndarray) -> np.ndarray:
-    """Index of the nearest mean for each point (``cols``: (D, N) features; first index on ties)."""
-    m = means.astype(np.float32)
-    dist = np.square(cols[0][:, None] - m[None, :, 0])
-    for d in range(1, len(cols)):
-        dist += np.square(cols[d][:, None] - m[None, :, d])
-    return dist.argmin(axis=1).astype(np.int32)
+    return _jit.lloyd(np.ascontiguousarray(x, dtype=np.float32), np.ascontiguousarray(w, dtype=np.float64),
+                      np.ascontiguousarray(means, dtype=np.float64), iterations)
 
 
 #: k-means runs over the histogram of distinct features, with a* and b*
@@ -302,31 +281,32 @@ def cluster_colors(
     >>> cluster_colors(rgb_to_lab(rgb), n_clusters=2).tolist()
     [[1, 1, 0, 0]]
     """
-    lightness = lab_patch[..., 0]
+    from . import _jit
+
+    lab_patch = np.ascontiguousarray(lab_patch)  # one compiled signature per dtype
+    shape = lab_patch.shape[:2]
     # Bin a* and b* (and L* when it is not unified); codes are local to the
-    # patch's range so that the histogram stays small.
-    qa = np.floor(lab_patch[..., 1] * np.float32(1.0 / AB_STEP) + np.float32(0.5)).astype(np.int32)
-    qb = np.floor(lab_patch[..., 2] * np.float32(1.0 / AB_STEP) + np.float32(0.5)).astype(np.int32)
-    a0, b0 = int(qa.min()), int(qb.min())
-    na, nb = int(qa.max()) - a0 + 1, int(qb.max()) - b0 + 1
+    # patch's range so that the histogram stays small. The thresholds compare
+    # in the dtype NumPy would use for ``L* <= bound``.
+    bounds = [np.result_type(lab_patch.dtype, v).type(v) for v in (black_bound * max_lightness,
+                                                                   white_bound * max_lightness)]
+    qa, qb, first = (np.empty(shape, np.int32) for _ in range(3))
+    a0, a1, b0, b1, f0, f1, n_cls, sum_l = _jit.quantize_lab(
+        lab_patch, np.float32(1.0 / AB_STEP), np.float32(0.5), bool(unify), *bounds, qa, qb, first)
+    na, nb = a1 - a0 + 1, b1 - b0 + 1
     if unify:
-        cls = lightness_classes(lightness, black_bound=black_bound, white_bound=white_bound,
-                                max_lightness=max_lightness)
-        n_cls = np.bincount(cls.ravel(), minlength=3)
-        sum_l = np.bincount(cls.ravel(), weights=lightness.ravel(), minlength=3)
         class_l = np.divide(sum_l, n_cls, out=np.zeros(3), where=n_cls > 0)
-        first, n_first = cls.astype(np.int32), 3
+        f0, n_first = 0, 3
         lightness_of = lambda index: class_l[index]  # noqa: E731
     else:
-        first = np.floor(lightness * np.float32(1.0 / AB_STEP) + np.float32(0.5)).astype(np.int32)
-        l0 = int(first.min())
-        first -= l0
-        n_first = int(first.max()) + 1
-        lightness_of = lambda index: (index + l0) * AB_STEP  # noqa: E731
-    code = (first * na + (qa - a0)) * nb + (qb - b0)
+        n_first = f1 - f0 + 1
+        lightness_of = lambda index: (index + f0) * AB_STEP  # noqa: E731
     space = n_first * na * nb
-    if space <= 4 * code.size:
-        counts = np.bincount(code.ravel(), minlength=space)
+    dense = space <= 4 * qa.size
+    code = np.empty(shape, np.int32)
+    counts = np.zeros(space if dense else 0, np.intp)
+    _jit.feature_codes(qa, qb, first, a0, na, b0, nb, f0, code, counts)
+    if dense:
         bins = np.flatnonzero(counts)
         weights = counts[bins]
         inverse = None
@@ -348,5 +328,5 @@ def cluster_colors(
         return labels
     features = np.array(lab_patch, dtype=np.float32, copy=True)
     if unify:
-        features[..., 0] = class_l[cls]
+        features[..., 0] = class_l[first]
     return labels, features

@@ -1,0 +1,138 @@
+"""Compiled per-pixel kernels of the thesis method (numba).
+
+Imported only by the thesis code when it runs (never at ``import depthrefine``):
+importing this module imports numba. Kernels are compiled on first use and
+cached on disk (``cache=True``; numba falls back to a per-user cache
+directory when the package's own is not writable), and release the GIL
+(``nogil=True``) so that patches run in threads.
+
+No ``fastmath``: every float operation is the IEEE operation, in the same
+order and precision as the NumPy expressions they replace, so results are
+bit for bit those of the NumPy code (``float32`` stays ``float32``; sums run
+in the order ``np.bincount`` adds).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+_jit = numba.njit(cache=True, nogil=True)
+
+
+# ----------------------------------------------------------------------------
+# Clustering (segment.cluster_colors, segment.kmeans)
+# ----------------------------------------------------------------------------
+
+
+@_jit
+def quantize_lab(lab, inv_step, half, unify, black, white, qa, qb, first):
+    """Bin a* and b* (and L* without ``unify``) of one patch; classes and their L* sums.
+
+    ``q = floor(v * inv_step + half)`` in the dtype of ``lab`` (``inv_step`` and
+    ``half`` are float32, as in the NumPy expression). With ``unify``,
+    ``first`` gets the class of L* (0 black: ``L* <= black``, 2 white:
+    ``L* >= white``, else 1) and the L* sums per class are accumulated in
+    float64 in row-major order (as ``np.bincount(cls, weights=L*)``);
+    without it, ``first`` gets the binned L*.
+
+    Returns ``(a_min, a_max, b_min, b_max, f_min, f_max, n_cls, sum_l)``.
+    """
+    rows, cols = qa.shape
+    n_cls = np.zeros(3, np.int64)
+    sum_l = np.zeros(3, np.float64)
+    a_lo = b_lo = f_lo = np.iinfo(np.int64).max
+    a_hi = b_hi = f_hi = np.iinfo(np.int64).min
+    for i in range(rows):
+        for j in range(cols):
+            light = lab[i, j, 0]
+            a = np.int64(np.floor(lab[i, j, 1] * inv_step + half))
+            b = np.int64(np.floor(lab[i, j, 2] * inv_step + half))
+            if unify:
+                f = 1 - np.int64(light <= black) + np.int64(light >= white)
+                n_cls[f] += 1
+                sum_l[f] += np.float64(light)
+            else:
+                f = np.int64(np.floor(light * inv_step + half))
+            qa[i, j] = a
+            qb[i, j] = b
+            first[i, j] = f
+            a_lo, a_hi = min(a_lo, a), max(a_hi, a)
+            b_lo, b_hi = min(b_lo, b), max(b_hi, b)
+            f_lo, f_hi = min(f_lo, f), max(f_hi, f)
+    return a_lo, a_hi, b_lo, b_hi, f_lo, f_hi, n_cls, sum_l
+
+
+@_jit
+def feature_codes(qa, qb, first, a0, na, b0, nb, f0, code, counts):
+    """``code = ((first - f0) * na + qa - a0) * nb + qb - b0``; its histogram into ``counts`` (if not empty)."""
+    rows, cols = qa.shape
+    count = counts.shape[0] > 0
+    for i in range(rows):
+        for j in range(cols):
+            c = ((np.int64(first[i, j]) - f0) * na + (np.int64(qa[i, j]) - a0)) * nb + (np.int64(qb[i, j]) - b0)
+            code[i, j] = c
+            if count:
+                counts[c] += 1
+
+
+@_jit
+def _assign(x, means, labels):
+    """Nearest of the float32 ``means`` (first on ties), distances summed in float32 as NumPy does."""
+    n, dims = x.shape
+    k = means.shape[0]
+    for i in range(n):
+        best = 0
+        best_d = np.float32(0.0)
+        for j in range(k):
+            d = np.float32(0.0)
+            for e in range(dims):
+                diff = x[i, e] - means[j, e]
+                sq = diff * diff
+                d = sq if e == 0 else d + sq
+            if j == 0 or d < best_d:
+                best, best_d = j, d
+        labels[i] = best
+
+
+@_jit
+def lloyd(x, w, means, iterations):
+    """``iterations`` rounds of k-means from ``means``; empty clusters dropped, labels renumbered.
+
+    ``x`` (N, D) float32, ``w`` (N,) float64 multiplicities, ``means`` (k, D)
+    float64. Counts and sums are accumulated in point order in float64 (as
+    ``np.bincount`` with weights); distances in float32.
+    """
+    n, dims = x.shape
+    labels = np.empty(n, np.int32)
+    _assign(x, means.astype(np.float32), labels)
+    for _ in range(iterations):
+        k = means.shape[0]
+        counts = np.zeros(k, np.float64)
+        sums = np.zeros((k, dims), np.float64)
+        for i in range(n):
+            c = labels[i]
+            counts[c] += w[i]
+            for e in range(dims):
+                sums[c, e] += w[i] * np.float64(x[i, e])
+        kept = 0
+        for c in range(k):
+            if counts[c] > 0:
+                kept += 1
+        new = np.empty((kept, dims), np.float64)
+        m = 0
+        for c in range(k):
+            if counts[c] > 0:
+                for e in range(dims):
+                    new[m, e] = sums[c, e] / counts[c]
+                m += 1
+        means = new
+        _assign(x, means.astype(np.float32), labels)
+    k = means.shape[0]
+    used = np.zeros(k, np.bool_)
+    for i in range(n):
+        used[labels[i]] = True
+    remap = np.cumsum(used) - 1
+    for i in range(n):
+        labels[i] = remap[labels[i]]
+    return labels, means[used]
