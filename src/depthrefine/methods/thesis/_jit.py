@@ -136,3 +136,49 @@ def lloyd(x, w, means, iterations):
     for i in range(n):
         labels[i] = remap[labels[i]]
     return labels, means[used]
+
+
+# ----------------------------------------------------------------------------
+# Interpolation (refine._interpolate_clusters)
+# ----------------------------------------------------------------------------
+
+
+@_jit
+def interpolate_patch(filled, cell_label, labels, weighted, present, i0, i1, fr, j0, j1, fc, out):
+    """Each pixel of one patch from the samples of its own cluster; returns the count of non-finite results.
+
+    A pixel whose cell (its four neighbouring samples) is all valid and of
+    the pixel's cluster (``cell_label[i0, j0] == label``) is plain bilinear
+    interpolation of ``filled`` in float32: along columns first, then rows,
+    each ``a + f * (b - a)``. Any other pixel is the bilinear interpolation of
+    ``weighted`` (value x weight of its cluster) divided by that of
+    ``present`` (weight), in float64; NaN where the weight is 0.
+    """
+    rows, cols = labels.shape
+    fr32 = fr.astype(np.float32)
+    fc32 = fc.astype(np.float32)
+    bad = 0
+    for r in range(rows):
+        a0, a1 = i0[r], i1[r]
+        for c in range(cols):
+            b0, b1 = j0[c], j1[c]
+            label = labels[r, c]
+            if cell_label[a0, b0] == label:
+                left = filled[a0, b0]
+                top = left + fc32[c] * (filled[a0, b1] - left)
+                left = filled[a1, b0]
+                bottom = left + fc32[c] * (filled[a1, b1] - left)
+                v = top + fr32[r] * (bottom - top)
+            else:
+                p, q = weighted[label], present[label]
+                t = p[a0, b0] + fc[c] * (p[a0, b1] - p[a0, b0])
+                u = p[a1, b0] + fc[c] * (p[a1, b1] - p[a1, b0])
+                num = t + fr[r] * (u - t)
+                t = q[a0, b0] + fc[c] * (q[a0, b1] - q[a0, b0])
+                u = q[a1, b0] + fc[c] * (q[a1, b1] - q[a1, b0])
+                den = t + fr[r] * (u - t)
+                v = np.float32(num / den) if den > 0 else np.float32(np.nan)
+            out[r, c] = v
+            if not np.isfinite(v):
+                bad += 1
+    return bad

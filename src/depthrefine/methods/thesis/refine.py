@@ -614,10 +614,10 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
 
     # 4.5: per-cluster expansion, interpolation, reshaping, combination.
     with _timed("interpolation"):
-        result, per_cluster = _interpolate_clusters(corrected, lab_samples, labels, k, s, params.expansion,
-                                                    ctx.keep)
-        missing = ~np.isfinite(result)
-        if missing.any():
+        result, per_cluster, n_missing = _interpolate_clusters(corrected, lab_samples, labels, k, s,
+                                                               params.expansion, ctx.keep)
+        if n_missing:
+            missing = ~np.isfinite(result)
             fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else ctx.nearest[r0:r1, c0:c1]
             rr, cc = np.nonzero(missing)
             result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
@@ -684,8 +684,11 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     grid, normalised by the weight of the samples present (so a missing
     neighbour is never averaged in). Each pixel keeps the value of its own
     cluster's map. Returns the combined patch (NaN where a pixel's cluster had
-    no sample in reach) and, if ``keep``, the per-cluster maps.
+    no sample in reach), if ``keep`` the per-cluster maps, and the count of
+    pixels that are not finite.
     """
+    from . import _jit
+
     hp, wp = corrected.shape
     valid = np.isfinite(corrected)
     values = np.zeros((k, hp, wp), dtype=np.float64)
@@ -708,49 +711,21 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     i0, i1, fr = _axis_weights(labels.shape[0], s, hp)
     j0, j1, fc = _axis_weights(labels.shape[1], s, wp)
 
-    # Fast path: where a pixel's four samples are valid and all in its own
-    # cluster, the normalised interpolation is plain bilinear interpolation.
-    # (The a + f * (b - a) form keeps a constant exactly constant.)
-    filled = np.where(valid, corrected, 0.0).astype(np.float32)
-    left = filled[:, j0]
-    along_cols = left + fc.astype(np.float32) * (filled[:, j1] - left)
-    top = along_cols[i0]
-    result = top + fr.astype(np.float32)[:, None] * (along_cols[i1] - top)
+    # Where a pixel's four samples are valid and all in its own cluster, the
+    # normalised interpolation is plain bilinear interpolation of the samples
+    # (``a + f * (b - a)`` keeps a constant exactly constant); other pixels
+    # interpolate value x weight and weight of their own cluster (after
+    # expansion) and divide, in float64 (num / den of a constant must round
+    # back to that constant exactly; float32 gave 3.0000002 for 3 beside a hole).
     below = np.minimum(np.arange(hp) + 1, hp - 1)
     right = np.minimum(np.arange(wp) + 1, wp - 1)
     lab_valid = np.where(valid, lab_samples, -1)
     uniform = ((lab_valid == lab_valid[below]) & (lab_valid == lab_valid[:, right])
                & (lab_valid == lab_valid[below][:, right]))
     cell_label = np.where(uniform, lab_valid, -1).astype(np.int16)
-    slow = np.flatnonzero(cell_label[i0][:, j0] != labels)  # flat indices into the patch, row-major
-
-    # Other pixels: each corner counts only if it holds a sample of the
-    # pixel's cluster (after expansion); weights renormalised. Bilinear
-    # interpolation of value*weight divided by that of weight.
-    if slow.size:
-        rr, cc = np.divmod(slow, labels.shape[1])
-        # float64 here: num / den of a constant must round back to that constant
-        # exactly (float32 gave 3.0000002 for 3 beside a hole).
-        weighted = (values * weights).reshape(-1)
-        present = weights.reshape(-1)
-        p00 = (labels.take(slow).astype(np.int32) * (hp * wp) + (i0 * wp).astype(np.int32).take(rr)
-               + j0.astype(np.int32).take(cc))
-        dj = (j1 - j0).astype(np.int32).take(cc)
-        p10 = p00 + ((i1 - i0) * wp).astype(np.int32).take(rr)
-        p01, p11 = p00 + dj, p10 + dj
-        fr_s = fr.take(rr)
-        fc_s = fc.take(cc)
-
-        def lerp2(flat: np.ndarray) -> np.ndarray:
-            a, b = flat.take(p00), flat.take(p01)
-            c, d = flat.take(p10), flat.take(p11)
-            top = a + fc_s * (b - a)
-            bottom = c + fc_s * (d - c)
-            return top + fr_s * (bottom - top)
-
-        num, den = lerp2(weighted), lerp2(present)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            result.reshape(-1)[slow] = np.where(den > 0, num / den, np.nan)
+    result = np.empty(labels.shape, dtype=np.float32)
+    n_missing = _jit.interpolate_patch(np.where(valid, corrected, 0.0).astype(np.float32), cell_label, labels,
+                                       values * weights, weights, i0, i1, fr, j0, j1, fc, result)
 
     per_cluster = None
     if keep:
@@ -765,7 +740,7 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
                     d += wgt
             with np.errstate(invalid="ignore", divide="ignore"):
                 per_cluster[c] = np.where(d > 0, n / d, np.nan)
-    return result, per_cluster
+    return result, per_cluster, n_missing
 
 
 @functools.lru_cache(maxsize=64)
