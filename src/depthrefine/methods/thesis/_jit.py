@@ -182,3 +182,81 @@ def interpolate_patch(filled, cell_label, labels, weighted, present, i0, i1, fr,
             if not np.isfinite(v):
                 bad += 1
     return bad
+
+
+# ----------------------------------------------------------------------------
+# Histogram correction (refine.correct_cluster_depths)
+# ----------------------------------------------------------------------------
+
+
+@_jit
+def correct_values(values, origin, level_size, bin_width, n_bins, dominant_fraction, tolerance, out):
+    """:func:`refine.correct_cluster_depths` on float64 ``values`` into ``out`` (``tolerance`` in depth units)."""
+    n = values.shape[0]
+    counts = np.zeros(n_bins, np.int64)
+    n_valid = 0
+    for i in range(n):
+        v = values[i]
+        if np.isfinite(v):
+            n_valid += 1
+            b = np.int64(np.floor((v - origin) / bin_width + 0.5))
+            counts[min(max(b, 0), n_bins - 1)] += 1
+    if n_valid == 0:
+        out[:] = np.nan
+        return
+    peak = counts.max()
+    fullest = origin + np.float64(np.argmax(counts)) * bin_width
+    n_dom = 0
+    for b in range(n_bins):
+        if counts[b] == peak or counts[b] > dominant_fraction * peak:
+            n_dom += 1
+    dominant = np.empty(n_dom, np.float64)
+    n_dom = 0
+    for b in range(n_bins):
+        if counts[b] == peak or counts[b] > dominant_fraction * peak:
+            dominant[n_dom] = origin + np.float64(b) * bin_width
+            n_dom += 1
+    for i in range(n):
+        v = values[i]
+        if not np.isfinite(v):
+            out[i] = fullest
+            continue
+        best = dominant[0]
+        best_d = abs(v - best)
+        for j in range(1, n_dom):
+            d = abs(v - dominant[j])
+            if d < best_d:
+                best, best_d = dominant[j], d
+        out[i] = best if best_d > tolerance else v
+
+
+@_jit
+def correct_patch(depth, samples, k, correct, origin, level_size, bin_width, n_bins, dominant_fraction, tolerance,
+                  out):
+    """Per cluster ``c < k``: the samples of ``depth`` labelled ``c`` corrected (:func:`correct_values`) into ``out``.
+
+    Without ``correct`` they are copied; pixels of no cluster stay as they are in ``out``.
+    """
+    rows, cols = depth.shape
+    values = np.empty(rows * cols, np.float64)
+    fixed = np.empty(rows * cols, np.float64)
+    for c in range(k):
+        n = 0
+        for i in range(rows):
+            for j in range(cols):
+                if samples[i, j] == c:
+                    values[n] = depth[i, j]
+                    n += 1
+        if n == 0:
+            continue
+        if correct:
+            correct_values(values[:n], origin, level_size, bin_width, n_bins, dominant_fraction, tolerance,
+                           fixed[:n])
+        else:
+            fixed[:n] = values[:n]
+        n = 0
+        for i in range(rows):
+            for j in range(cols):
+                if samples[i, j] == c:
+                    out[i, j] = fixed[n]
+                    n += 1

@@ -326,24 +326,13 @@ def correct_cluster_depths(
     >>> correct_cluster_depths(v, origin=0, level_size=1, n_bins=256).tolist()
     [100.0, 100.0, 100.0, 101.0, 97.0, 100.0, 100.0]
     """
-    values = np.asarray(values, dtype=np.float64)
-    valid = np.isfinite(values)
-    if not valid.any():
-        return np.full(values.shape, np.nan)
-    bin_width = level_size if bin_width is None else bin_width
-    bins = np.clip(np.floor((values[valid] - origin) / bin_width + 0.5).astype(np.int64), 0, n_bins - 1)
-    counts = np.bincount(bins, minlength=n_bins)
-    peak = counts.max()
-    dominant_bins = np.flatnonzero((counts == peak) | (counts > dominant_fraction * peak))
-    dominant = origin + dominant_bins.astype(np.float64) * bin_width
+    from . import _jit
+
+    values = np.ascontiguousarray(values, dtype=np.float64).ravel()
     out = np.empty_like(values)
-    # The fullest bin (lowest on ties) for invalid samples.
-    out[~valid] = origin + float(np.argmax(counts)) * bin_width
-    v = values[valid]
-    dist = np.abs(v[:, None] - dominant[None, :])
-    nearest = np.argmin(dist, axis=1)
-    rare = dist[np.arange(len(v)), nearest] > tolerance_levels * level_size
-    out[valid] = np.where(rare, dominant[nearest], v)
+    bin_width = level_size if bin_width is None else bin_width
+    _jit.correct_values(values, float(origin), float(level_size), float(bin_width), int(n_bins),
+                        float(dominant_fraction), float(tolerance_levels * level_size), out)
     return out
 
 
@@ -572,6 +561,8 @@ def _result(canvas: _Canvas, ctx: _Context, step: ScaleStep, lr_patches: list[tu
 
 def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], index: int) -> _PatchResult:
     """Steps 5-7 for patch ``index`` (pure: reads ``ctx``, writes nothing shared)."""
+    from . import _jit
+
     r0, r1, c0, c1 = lr_patches[index]
     s, params, levels = ctx.s, ctx.params, ctx.levels
     init = None if ctx.init_means is None else ctx.init_means[index]
@@ -600,17 +591,10 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
     # 4.4.3-4.4.4: per-cluster histogram correction.
     with _timed("correction"):
         corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
-        for c in range(k):
-            in_c = lab_samples == c
-            if not in_c.any():
-                continue
-            if params.correct_depth:
-                corrected[in_c] = correct_cluster_depths(
-                    d_patch[in_c], origin=levels.origin, level_size=levels.level_size, bin_width=levels.bin_width,
-                    n_bins=levels.n_bins, dominant_fraction=params.dominant_fraction,
-                    tolerance_levels=params.tolerance_levels)
-            else:
-                corrected[in_c] = d_patch[in_c]
+        _jit.correct_patch(d_patch, lab_samples, k, bool(params.correct_depth), float(levels.origin),
+                           float(levels.level_size), float(levels.bin_width), int(levels.n_bins),
+                           float(params.dominant_fraction), float(params.tolerance_levels * levels.level_size),
+                           corrected)
 
     # 4.5: per-cluster expansion, interpolation, reshaping, combination.
     with _timed("interpolation"):
