@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from depthrefine.methods.thesis.median import median_filter_2d, median_network
+from depthrefine.methods.thesis.median import median_filter, median_network
 
 
 def _evaluate(size: int, inputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -58,26 +58,39 @@ def test_network_is_exact_on_random_zero_one_inputs(size):
 @pytest.mark.parametrize("size", [3, 5, 7, 9])
 @pytest.mark.parametrize("shape", [(1, 1), (1, 9), (2, 3), (3, 1), (8, 8), (13, 9), (70, 41)])
 @pytest.mark.parametrize("levels", [256, 3])
-def test_median_filter_2d_equals_opencv_and_scipy(size, shape, levels):
+def test_median_filter_equals_opencv_and_scipy(size, shape, levels):
     rng = np.random.default_rng(sum(shape) + size + levels)
     img8 = rng.integers(0, levels, shape).astype(np.uint8)
     img16 = (img8.astype(np.uint16) * 257 + rng.integers(0, 2, shape)).astype(np.uint16)
-    out8, out16 = median_filter_2d([img8, img16], size)
+    out8, out16 = median_filter(img8, size), median_filter(img16, size)
     assert out8.dtype == np.uint8 and out16.dtype == np.uint16 and out8.shape == shape
     np.testing.assert_array_equal(out8, cv2.medianBlur(img8, size))
     np.testing.assert_array_equal(out16, ndimage.median_filter(img16, size=size, mode="nearest"))
 
 
-def test_median_filter_2d_in_row_bands_equals_one_pass(monkeypatch):
-    # Tall image: split into row bands for threads; odd height: one padded row dropped.
+@pytest.mark.parametrize("size", [3, 7])
+@pytest.mark.parametrize("shape", [(1, 1, 3), (5, 2, 3), (31, 40, 3), (12, 9, 4)])
+def test_median_filter_filters_each_channel(size, shape):
+    rng = np.random.default_rng(sum(shape) + size)
+    img = rng.integers(0, 256, shape).astype(np.uint8)
+    out = median_filter(img, size)
+    assert out.shape == shape and out.dtype == np.uint8
+    for ch in range(shape[2]):
+        np.testing.assert_array_equal(out[:, :, ch], cv2.medianBlur(np.ascontiguousarray(img[:, :, ch]), size))
+
+
+def test_median_filter_in_row_bands_and_chunks_equals_one_pass(monkeypatch):
+    # Tall image: split into row bands for threads; odd height: one padded row dropped;
+    # chunks of lanes that end inside a pixel.
     rng = np.random.default_rng(3)
-    img = rng.integers(0, 256, (301, 37)).astype(np.uint8)
+    img = rng.integers(0, 256, (301, 37, 3)).astype(np.uint8)
+    expected = cv2.medianBlur(img, 7)
     monkeypatch.setattr("depthrefine.methods.thesis.median._MIN_PAIRS_PER_TASK", 4)
-    monkeypatch.setattr("depthrefine.methods.thesis.median._LANES_PER_PASS", 100)
-    np.testing.assert_array_equal(median_filter_2d([img], 7)[0], cv2.medianBlur(img, 7))
+    monkeypatch.setattr("depthrefine.methods.thesis.median._CHUNK", 20)
+    np.testing.assert_array_equal(median_filter(img, 7), expected)
 
 
 @pytest.mark.parametrize("size", [1, 4, -3])
-def test_median_filter_2d_rejects_even_or_small_sizes(size):
+def test_median_filter_rejects_even_or_small_sizes(size):
     with pytest.raises(ValueError, match="odd"):
-        median_filter_2d([np.zeros((4, 4), np.uint8)], size)
+        median_filter(np.zeros((4, 4), np.uint8), size)

@@ -260,3 +260,67 @@ def correct_patch(depth, samples, k, correct, origin, level_size, bin_width, n_b
                 if samples[i, j] == c:
                     out[i, j] = fixed[n]
                     n += 1
+
+
+# ----------------------------------------------------------------------------
+# Median (median.median_filter)
+# ----------------------------------------------------------------------------
+
+#: Lanes rounded up to this many (one AVX2 register of bytes) so that every
+#: min/max loop vectorises without a scalar tail; the extra lanes are garbage
+#: that no output depends on.
+_VEC = 32
+
+
+@_jit
+def median_rows(image, out, table, n_slots, out0, out1, size, y0, y1, chunk):
+    """Rows ``y0 .. y1-1`` of the ``size`` x ``size`` median of ``image`` (edges replicated) into ``out``.
+
+    ``image`` and ``out`` are (rows, width, channels) C-contiguous; ``y1 - y0``
+    is even or ``y1`` is the last row. The program ``table`` (of
+    :func:`median.median_network`) runs on lanes of one row pair: lane
+    ``x * channels + c`` is channel ``c`` of the window whose leftmost column
+    is ``x``, so a column offset is ``channels`` lanes. Lanes go by in chunks
+    of ``chunk`` so that the ``n_slots`` rows of the program stay in cache.
+    """
+    rows, width, ch = image.shape
+    half = size // 2
+    lanes = width * ch
+    pad = half * ch
+    span = (size - 1) * ch
+    buf = np.zeros((n_slots, chunk + span + 2 * _VEC), image.dtype)
+    flat = image.reshape(rows, lanes)
+    oflat = out.reshape(rows, lanes)
+    ops = table.astype(np.int64)
+    for i in range(ops.shape[0]):
+        ops[i, 3] *= ch
+        ops[i, 5] *= ch
+        ops[i, 6] *= ch
+    for y in range(y0, y1, 2):
+        for c0 in range(0, lanes, chunk):
+            m = min(chunk, lanes - c0)  # output lanes of this chunk
+            n_in = m + span  # edge-padded input lanes c0 .. c0 + n_in
+            for r in range(size + 1):
+                src = min(max(y + r - half, 0), rows - 1)
+                row = buf[r]
+                lo = max(0, pad - c0)
+                hi = min(n_in, pad + lanes - c0)
+                row[lo:hi] = flat[src, c0 + lo - pad:c0 + hi - pad]
+                for j in range(lo):
+                    row[j] = flat[src, (c0 + j) % ch]
+                for j in range(hi, n_in):
+                    row[j] = flat[src, lanes - ch + (c0 + j) % ch]
+            for i in range(ops.shape[0]):
+                d = buf[ops[i, 1]]
+                a = buf[ops[i, 2]][ops[i, 3]:]
+                b = buf[ops[i, 4]][ops[i, 5]:]
+                n = (m + ops[i, 6] + _VEC - 1) // _VEC * _VEC
+                if ops[i, 0] == 0:
+                    for x in range(n):
+                        d[x] = min(a[x], b[x])
+                else:
+                    for x in range(n):
+                        d[x] = max(a[x], b[x])
+            oflat[y, c0:c0 + m] = buf[out0][:m]
+            if y + 1 < rows:
+                oflat[y + 1, c0:c0 + m] = buf[out1][:m]

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..._lazy import cv2, ndimage
 from ..._validate import as_rgb_float, check_int
-from .median import median_filter_2d
+from .median import median_filter
 
 __all__ = [
     "median_rgb",
@@ -61,10 +61,7 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
     if size == 1:
         return rgb.copy()
     if rgb.dtype in (np.uint8, np.uint16) and size <= NETWORK_MAX_SIZE:
-        out = np.empty_like(rgb)
-        channels = range(rgb.shape[2])
-        median_filter_2d([rgb[:, :, ch] for ch in channels], size, out=[out[:, :, ch] for ch in channels])
-        return out
+        return median_filter(rgb, size)
     if rgb.dtype == np.uint8 or (size <= 5 and rgb.dtype in (np.uint16, np.float32)):
         return cv2.medianBlur(np.ascontiguousarray(rgb), size)
     out = np.empty_like(rgb)
