@@ -155,33 +155,53 @@ def interpolate_patch(filled, cell_label, labels, weighted, present, i0, i1, fr,
     ``present`` (weight), in float64; NaN where the weight is 0.
     """
     rows, cols = labels.shape
+    n_lr = filled.shape[0]
     fr32 = fr.astype(np.float32)
     fc32 = fc.astype(np.float32)
+    # Along columns, once per sample row; the cell label seen by each column.
+    along = np.empty((n_lr, cols), np.float32)
+    cell = np.empty((n_lr, cols), np.int16)
+    for i in range(n_lr):
+        for c in range(cols):
+            left = filled[i, j0[c]]
+            along[i, c] = left + fc32[c] * (filled[i, j1[c]] - left)
+            cell[i, c] = cell_label[i, j0[c]]
     bad = 0
     for r in range(rows):
-        a0, a1 = i0[r], i1[r]
+        a0, a1, f = i0[r], i1[r], fr32[r]
+        top, bottom, own, row = along[a0], along[a1], cell[a0], out[r]
         for c in range(cols):
-            b0, b1 = j0[c], j1[c]
+            row[c] = top[c] + f * (bottom[c] - top[c])
+        for c in range(cols):
             label = labels[r, c]
-            if cell_label[a0, b0] == label:
-                left = filled[a0, b0]
-                top = left + fc32[c] * (filled[a0, b1] - left)
-                left = filled[a1, b0]
-                bottom = left + fc32[c] * (filled[a1, b1] - left)
-                v = top + fr32[r] * (bottom - top)
+            if own[c] == label:
+                continue
+            b0, b1 = j0[c], j1[c]
+            p, q = weighted[label], present[label]
+            t = p[a0, b0] + fc[c] * (p[a0, b1] - p[a0, b0])
+            u = p[a1, b0] + fc[c] * (p[a1, b1] - p[a1, b0])
+            num = t + fr[r] * (u - t)
+            t = q[a0, b0] + fc[c] * (q[a0, b1] - q[a0, b0])
+            u = q[a1, b0] + fc[c] * (q[a1, b1] - q[a1, b0])
+            den = t + fr[r] * (u - t)
+            if den > 0:
+                row[c] = np.float32(num / den)
+                if not np.isfinite(row[c]):
+                    bad += 1
             else:
-                p, q = weighted[label], present[label]
-                t = p[a0, b0] + fc[c] * (p[a0, b1] - p[a0, b0])
-                u = p[a1, b0] + fc[c] * (p[a1, b1] - p[a1, b0])
-                num = t + fr[r] * (u - t)
-                t = q[a0, b0] + fc[c] * (q[a0, b1] - q[a0, b0])
-                u = q[a1, b0] + fc[c] * (q[a1, b1] - q[a1, b0])
-                den = t + fr[r] * (u - t)
-                v = np.float32(num / den) if den > 0 else np.float32(np.nan)
-            out[r, c] = v
-            if not np.isfinite(v):
+                row[c] = np.nan
                 bad += 1
     return bad
+
+
+@_jit
+def fill_missing(result, fallback, near_rows, near_cols):
+    """Non-finite pixels of ``result`` take ``fallback[near_rows[r], near_cols[c]]``."""
+    rows, cols = result.shape
+    for r in range(rows):
+        for c in range(cols):
+            if not np.isfinite(result[r, c]):
+                result[r, c] = fallback[near_rows[r], near_cols[c]]
 
 
 # ----------------------------------------------------------------------------

@@ -601,10 +601,9 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
         result, per_cluster, n_missing = _interpolate_clusters(corrected, lab_samples, labels, k, s,
                                                                params.expansion, ctx.keep)
         if n_missing:
-            missing = ~np.isfinite(result)
             fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else ctx.nearest[r0:r1, c0:c1]
-            rr, cc = np.nonzero(missing)
-            result[rr, cc] = fallback[_nearest_sample(rr, s, r1 - r0), _nearest_sample(cc, s, c1 - c0)]
+            _jit.fill_missing(result, fallback, _nearest_samples(result.shape[0], s, r1 - r0),
+                              _nearest_samples(result.shape[1], s, c1 - c0))
     return _PatchResult(depth=result, corrected=corrected, lab_samples=lab_samples,
                         labels=labels if ctx.keep else None, features=features if ctx.keep else None,
                         per_cluster=per_cluster if ctx.keep else None, means=means)
@@ -745,9 +744,12 @@ def _axis_weights(n_hr: int, s: int, n_lr: int):
     return i0, i1, frac
 
 
-def _nearest_sample(hr_index: np.ndarray, s: int, n_lr: int) -> np.ndarray:
-    """Index of the depth sample nearest to HR positions along one axis."""
-    return np.clip(np.floor((hr_index - s // 2) / s + 0.5).astype(np.intp), 0, n_lr - 1)
+@functools.lru_cache(maxsize=64)
+def _nearest_samples(n_hr: int, s: int, n_lr: int) -> np.ndarray:
+    """For HR positions 0..n_hr-1 along one axis: the index of the nearest depth sample (read-only, cached)."""
+    index = np.clip(np.floor((np.arange(n_hr) - s // 2) / s + 0.5).astype(np.intp), 0, n_lr - 1)
+    index.setflags(write=False)
+    return index
 
 
 def _spread(depth_lr: np.ndarray, s: int, shape: tuple[int, int]) -> np.ndarray:
