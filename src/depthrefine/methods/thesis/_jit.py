@@ -41,25 +41,33 @@ def quantize_lab(lab, inv_step, half, unify, black, white, qa, qb, first):
     rows, cols = qa.shape
     n_cls = np.zeros(3, np.int64)
     sum_l = np.zeros(3, np.float64)
-    a_lo = b_lo = f_lo = np.iinfo(np.int64).max
-    a_hi = b_hi = f_hi = np.iinfo(np.int64).min
+    a_lo = b_lo = f_lo = np.iinfo(np.int32).max
+    a_hi = b_hi = f_hi = np.iinfo(np.int32).min
     for i in range(rows):
-        for j in range(cols):
+        for j in range(cols):  # branch-free, vectorisable
             light = lab[i, j, 0]
-            a = np.int64(np.floor(lab[i, j, 1] * inv_step + half))
-            b = np.int64(np.floor(lab[i, j, 2] * inv_step + half))
+            a = np.int32(np.floor(lab[i, j, 1] * inv_step + half))
+            b = np.int32(np.floor(lab[i, j, 2] * inv_step + half))
             if unify:
-                f = 1 - np.int64(light <= black) + np.int64(light >= white)
-                n_cls[f] += 1
-                sum_l[f] += np.float64(light)
+                f = np.int32(1) - np.int32(light <= black) + np.int32(light >= white)
             else:
-                f = np.int64(np.floor(light * inv_step + half))
-            qa[i, j] = a
-            qb[i, j] = b
-            first[i, j] = f
+                f = np.int32(np.floor(light * inv_step + half))
+            qa[i, j], qb[i, j], first[i, j] = a, b, f
             a_lo, a_hi = min(a_lo, a), max(a_hi, a)
             b_lo, b_hi = min(b_lo, b), max(b_hi, b)
             f_lo, f_hi = min(f_lo, f), max(f_hi, f)
+    if unify:
+        # Each class's sum in pixel order, as np.bincount adds (x + 0.0 == x).
+        s0 = s1 = s2 = 0.0
+        for i in range(rows):
+            for j in range(cols):
+                light = np.float64(lab[i, j, 0])
+                f = first[i, j]
+                s0 += light if f == 0 else 0.0
+                s1 += light if f == 1 else 0.0
+                s2 += light if f == 2 else 0.0
+                n_cls[f] += 1
+        sum_l[0], sum_l[1], sum_l[2] = s0, s1, s2
     return a_lo, a_hi, b_lo, b_hi, f_lo, f_hi, n_cls, sum_l
 
 
