@@ -39,36 +39,42 @@ def quantize_lab(lab, inv_step, half, unify, black, white, qa, qb, first):
     Returns ``(a_min, a_max, b_min, b_max, f_min, f_max, n_cls, sum_l)``.
     """
     rows, cols = qa.shape
-    n_cls = np.zeros(3, np.int64)
-    sum_l = np.zeros(3, np.float64)
     a_lo = b_lo = f_lo = np.iinfo(np.int32).max
     a_hi = b_hi = f_hi = np.iinfo(np.int32).min
+    # Each class's L* sum in pixel order, as np.bincount adds (x + 0.0 == x).
+    c0 = c1 = c2 = 0
+    s0 = s1 = s2 = 0.0
     for i in range(rows):
-        for j in range(cols):  # branch-free, vectorisable
+        for j in range(cols):
             light = lab[i, j, 0]
             a = np.int32(np.floor(lab[i, j, 1] * inv_step + half))
             b = np.int32(np.floor(lab[i, j, 2] * inv_step + half))
             if unify:
                 f = np.int32(1) - np.int32(light <= black) + np.int32(light >= white)
+                wide = np.float64(light)
+                s0 += wide if f == 0 else 0.0
+                s1 += wide if f == 1 else 0.0
+                s2 += wide if f == 2 else 0.0
+                c0 += f == 0
+                c2 += f == 2
             else:
                 f = np.int32(np.floor(light * inv_step + half))
             qa[i, j], qb[i, j], first[i, j] = a, b, f
             a_lo, a_hi = min(a_lo, a), max(a_hi, a)
             b_lo, b_hi = min(b_lo, b), max(b_hi, b)
             f_lo, f_hi = min(f_lo, f), max(f_hi, f)
-    if unify:
-        # Each class's sum in pixel order, as np.bincount adds (x + 0.0 == x).
-        s0 = s1 = s2 = 0.0
-        for i in range(rows):
-            for j in range(cols):
-                light = np.float64(lab[i, j, 0])
-                f = first[i, j]
-                s0 += light if f == 0 else 0.0
-                s1 += light if f == 1 else 0.0
-                s2 += light if f == 2 else 0.0
-                n_cls[f] += 1
-        sum_l[0], sum_l[1], sum_l[2] = s0, s1, s2
-    return a_lo, a_hi, b_lo, b_hi, f_lo, f_hi, n_cls, sum_l
+    c1 = rows * cols - c0 - c2
+    return (a_lo, a_hi, b_lo, b_hi, f_lo, f_hi, np.array([c0, c1 if unify else 0, c2], np.int64),
+            np.array([s0, s1, s2], np.float64))
+
+
+@_jit
+def lookup(table, index, out):
+    """``out[i, j] = table[index[i, j]]``."""
+    rows, cols = index.shape
+    for i in range(rows):
+        for j in range(cols):
+            out[i, j] = table[index[i, j]]
 
 
 @_jit

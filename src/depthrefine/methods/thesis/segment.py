@@ -318,7 +318,8 @@ def cluster_colors(
     if inverse is None:
         lut = np.empty(space, dtype=np.int16)
         lut[bins] = bin_labels
-        labels = lut[code]
+        labels = np.empty(shape, dtype=np.int16)
+        _jit.lookup(lut, code, labels)
     else:
         labels = bin_labels.astype(np.int16)[inverse].reshape(code.shape)
     if not return_features:
