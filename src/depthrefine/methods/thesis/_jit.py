@@ -17,7 +17,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-_jit = numba.njit(cache=True, nogil=True)
+
+def _jit(func):
+    """``numba.njit(cache=True, nogil=True)``; without a writable cache directory, compiled in memory."""
+    try:
+        return numba.njit(cache=True, nogil=True)(func)
+    except RuntimeError:  # numba found no writable cache directory (package and user cache dir)
+        return numba.njit(nogil=True)(func)
 
 
 # ----------------------------------------------------------------------------
