@@ -14,6 +14,8 @@ in the order ``np.bincount`` adds).
 
 from __future__ import annotations
 
+import warnings
+
 import numba
 import numpy as np
 
@@ -23,6 +25,9 @@ def _jit(func):
     try:
         return numba.njit(cache=True, nogil=True)(func)
     except RuntimeError:  # numba found no writable cache directory (package and user cache dir)
+        warnings.warn("numba found no writable cache directory: the thesis method's kernels are compiled "
+                      "in every new process (seconds); set NUMBA_CACHE_DIR to a writable directory.",
+                      RuntimeWarning, stacklevel=2)
         return numba.njit(nogil=True)(func)
 
 

@@ -1,14 +1,13 @@
-"""Exact square median filter of integer images, as a min/max network over whole rows.
+"""Exact square median filter of integer images, as a min/max network run on lanes of whole rows.
 
 The thesis filters R, G and B with a 7x7 median (4.3.1). ``cv2.medianBlur``
-gives the exact result; this module gives the same result, bit for bit, with
-NumPy alone, in a way whose time suffers less than OpenCV's histogram median
-when the cores are shared (measured on 2 cores: about half OpenCV's time under
-load, 1.3-1.5x its time on an idle machine):
+gives the exact result; this module gives the same result, bit for bit, in
+less time (``benchmarks/bench_speed.py`` prints the step):
 
-- Every value of the network is a row vector: lane ``x`` belongs to the
-  window whose leftmost column is ``x``, so one ``np.minimum`` or
-  ``np.maximum`` call advances thousands of windows at once.
+- :func:`median_network` builds, once per window size, a program of
+  lane-wise ``min`` / ``max`` operations on row vectors: lane ``x`` belongs
+  to the window whose leftmost column is ``x``, so one operation advances
+  every window of a row at once.
 - Two output rows are made together: the ``size - 1`` rows their windows
   share are sorted once per column, the columns of a window are merged into
   one sorted list (Batcher's odd-even merge), and a sorted run of ``m``
@@ -17,7 +16,12 @@ load, 1.3-1.5x its time on an idle machine):
 - Each output row adds its own one row, sorted across the window the same
   way; the median is then the middle of two sorted lists, given by the split
   formula ``k-th of (a, b) = min over i of max(a[i-1], b[k-i])``.
-- Only the operations the two outputs depend on are kept.
+- Only the operations the two outputs depend on are kept (184 per output
+  pixel and channel for size 7).
+- :func:`median_filter` runs the program in a compiled kernel
+  (:func:`._jit.median_rows`, numba) with the channels interleaved (lane
+  ``x * channels + c``), on chunks of lanes small enough to stay in the CPU
+  cache, in row bands on threads (the kernel releases the GIL).
 
 A network of ``min`` and ``max`` selects the same element as sorting does
 (for any input, by the 0-1 principle), so the result is the exact median,

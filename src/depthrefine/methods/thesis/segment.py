@@ -40,9 +40,9 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         Odd side of the square window (thesis: 7). Borders replicate the
         edge pixel. Integer images up to :data:`NETWORK_MAX_SIZE` use the
         exact min/max network of :mod:`.median` (the same output as
-        ``cv2.medianBlur``; at 7x7 on 1232x1008 about half its time when
-        the two cores are shared with other work, 1.3-1.5x its time on an
-        idle machine: ``benchmarks/bench_speed.py``).
+        ``cv2.medianBlur``, in about 40 % of its time at 7x7 on 1232x1008
+        on a loaded 2-core machine; ``benchmarks/bench_speed.py`` prints the
+        median step).
 
     Returns
     -------
