@@ -683,7 +683,8 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
         # two passes of the transform are those of each plane on its own.
         # Integer distances (all below 2**53) keep the arithmetic exact.
         far = float(hp + wp)
-        _, (ir, ic, _) = ndimage.distance_transform_edt(~masks, sampling=(1.0, 1.0, far), return_indices=True)
+        ir, ic, _ = ndimage.distance_transform_edt(~masks, sampling=(1.0, 1.0, far), return_distances=False,
+                                                   return_indices=True)
         grown = ndimage.binary_dilation(masks, structure=np.ones((3, 3, 1), dtype=bool), iterations=expansion)
         values = np.where(grown, corrected[ir, ic], 0.0)
     else:
