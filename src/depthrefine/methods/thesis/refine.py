@@ -674,24 +674,17 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
 
     hp, wp = corrected.shape
     valid = np.isfinite(corrected)
-    # Cluster c's samples in plane c of (hp, wp, k) masks, all clusters at once.
-    masks = valid[:, :, None] & (lab_samples[:, :, None] == np.arange(k, dtype=lab_samples.dtype))
+    # Cluster c's samples in plane c of (k, hp, wp) masks; one dilation for all planes.
+    masks = valid[None] & (lab_samples[None] == np.arange(k, dtype=lab_samples.dtype)[:, None, None])
+    values = np.where(masks, corrected[None], 0.0)
+    grown = masks
     if expansion > 0 and masks.any():
-        # The nearest sample of each plane's own cluster: the planes are one 3-D
-        # transform whose third axis is spaced wider than any distance within a
-        # plane, so a plane with samples never reaches into another; the first
-        # two passes of the transform are those of each plane on its own.
-        # Integer distances (all below 2**53) keep the arithmetic exact.
-        far = float(hp + wp)
-        ir, ic, _ = ndimage.distance_transform_edt(~masks, sampling=(1.0, 1.0, far), return_distances=False,
-                                                   return_indices=True)
-        grown = ndimage.binary_dilation(masks, structure=np.ones((3, 3, 1), dtype=bool), iterations=expansion)
-        values = np.where(grown, corrected[ir, ic], 0.0)
-    else:
-        grown = masks
-        values = np.where(masks, corrected[:, :, None], 0.0)
-    values = np.ascontiguousarray(values.transpose(2, 0, 1))
-    weights = np.ascontiguousarray(grown.transpose(2, 0, 1), dtype=np.float64)
+        grown = ndimage.binary_dilation(masks, structure=np.ones((1, 3, 3), dtype=bool), iterations=expansion)
+        for c in range(k):
+            if masks[c].any() and not masks[c].all():  # new positions: the value of the nearest sample
+                ir, ic = ndimage.distance_transform_edt(~masks[c], return_distances=False, return_indices=True)
+                values[c] = np.where(grown[c], corrected[ir, ic], 0.0)
+    weights = grown.astype(np.float64)
 
     # Bilinear weights along rows and columns; sample i sits at i*s + s//2.
     i0, i1, fr = _axis_weights(labels.shape[0], s, hp)
