@@ -221,3 +221,9 @@ def test_interpolate_clusters_equals_the_per_cluster_numpy_reference(seed, expan
     want = _interpolate_ref(corrected, lab_samples, labels, k, s, expansion)
     np.testing.assert_array_equal(result, want)
     assert n_missing == int((~np.isfinite(want)).sum())
+
+
+def test_kmeans_rejects_features_that_are_not_finite():
+    x = np.array([[0.0, 1.0], [np.nan, 2.0]])
+    with pytest.raises(ValueError, match="finite"):
+        segment.kmeans(x, 2)
