@@ -43,7 +43,9 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    none. The full-resolution result keeps that share of its guided detail
    and falls back to clipped bicubic interpolation elsewhere: of the input
    itself when it is noise-free, of the result's own (denoised) reduction
-   as the noise grows to ``flat_noise`` levels.
+   as the noise grows to ``flat_noise`` levels (this noise is measured with
+   a band that is blind to smooth curvature, so a curved noise-free surface
+   falls back to the input itself).
 
 Invalid input pixels (0, NaN, inf, negative) are filled from the nearest
 valid pixel before any interpolation, as the other methods do, and no
@@ -76,7 +78,8 @@ from .._fill import fill_invalid_nearest
 from .._validate import as_depth, check_int, check_number, check_rgb
 from .peers import _guide8
 
-__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "estimate_noise", "guide_trust", "block_mean_valid"]
+__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "estimate_noise", "estimate_guide_noise",
+           "footprint_share", "guide_trust", "block_mean_valid"]
 
 Progress = Callable[[int, int], None]
 
@@ -181,6 +184,32 @@ class GbpParams:
         none / 2 / 4 levels, 2.674 with ``jump_noise = 6``.
     jump_margin : int
         See ``jump_levels`` (2).
+    guide_noise : float
+        The color sensitivity of both solves is at least this many times the
+        guide's own noise (3; its finest diagonal Haar band, as for the depth,
+        RMS over R, G, B): a noisy guide's pixel-to-pixel differences would
+        otherwise count as edges everywhere and stop the smoothing. The
+        benchmark guides measure 0.3-2.2 levels, so it changes little there
+        (tuning mean 2.665 / 2.661 / 2.647 / 2.653 for 0 / 2 / 3 / 4); on
+        :func:`~depthrefine.bench.synthetic.make_sequence` (color noise 6
+        levels) it is what lets the guide place the edges at all.
+    mixed_low, mixed_high : float
+        The input's sampling model is estimated from the input
+        (:func:`footprint_share`): a ToF pixel integrates its footprint,
+        leaving mixed values at depth edges, while a point-sampled map has
+        none. Where fewer than ``mixed_low`` (0.02) of the pixels between two
+        sides of a large jump are mixed, the back-projection compares the
+        estimate's point samples with the input, above ``mixed_high`` (0.08)
+        its footprint means, and a blend in between. Every input of the
+        benchmark measures 0.10-0.85 (all footprint means or antialiased
+        reductions); the point-sampled synthetic scenes 0-0.016.
+    point_lambda : float
+        On a point-sampled input only one color pixel in ``s**2`` is tied to
+        a measurement, so the detail solve's smoothing is multiplied by this
+        factor there (10; scaled by the point share): it fills the gaps along
+        the color segments. Chosen on :func:`~depthrefine.bench.synthetic.make_scene`
+        scenes (x4 and x8, color noise 6, with and without depth noise): mean
+        RMSE 63 / 17 / 10.1 / 10.6 mm for 1 / 3 / 10 / 30.
     """
 
     iterations: int = 8
@@ -202,6 +231,10 @@ class GbpParams:
     jump_levels: float = 2.0
     jump_noise: float = 4.0
     jump_margin: int = 2
+    guide_noise: float = 3.0
+    mixed_low: float = 0.02
+    mixed_high: float = 0.08
+    point_lambda: float = 10.0
 
     def __post_init__(self) -> None:
         check_int("iterations", self.iterations, minimum=1)
@@ -209,12 +242,14 @@ class GbpParams:
         check_int("hole_margin", self.hole_margin, minimum=0)
         check_int("jump_margin", self.jump_margin, minimum=0)
         for name in ("lambda_lr", "sigma_color", "noise_ref", "flat_lambda_lr", "flat_sigma_color", "edge_width",
-                     "flat_noise", "lambda_first", "lambda_last"):
+                     "flat_noise", "lambda_first", "lambda_last", "point_lambda"):
             check_number(name, getattr(self, name), positive=True)
-        for name in ("edge_low", "trust_prior", "jump_levels", "jump_noise"):
+        for name in ("edge_low", "trust_prior", "jump_levels", "jump_noise", "guide_noise", "mixed_low"):
             check_number(name, getattr(self, name), nonnegative=True)
         if not 0 <= check_number("trust_floor", self.trust_floor) < 1:
             raise ValueError(f"trust_floor must be in [0, 1); got {self.trust_floor}.")
+        if not check_number("mixed_high", self.mixed_high) > self.mixed_low:
+            raise ValueError(f"mixed_high must be above mixed_low ({self.mixed_low}); got {self.mixed_high}.")
         if not isinstance(self.trust, (bool, np.bool_)):
             raise TypeError(f"trust must be True or False; got {self.trust!r}.")
 
@@ -262,13 +297,99 @@ def estimate_noise(depth: np.ndarray, valid: np.ndarray) -> float:
     coef = band[ok]
     if coef.size < 16:
         return 0.0
-    sigma = math.sqrt(float(np.mean(coef * coef)))
+    return _clipped_rms(coef, np.ones(coef.shape))
+
+
+def _clipped_rms(values: np.ndarray, counts: np.ndarray) -> float:
+    """RMS of ``values`` (each counted ``counts`` times), clipped at 2.5 times the estimate, five rounds."""
+    squares = values * values
+    sigma = math.sqrt(float(np.sum(counts * squares) / np.sum(counts)))
     for _ in range(5):
-        kept = coef[np.abs(coef) <= _CLIP * sigma]
-        if kept.size == 0:
+        kept = np.abs(values) <= _CLIP * sigma
+        total = float(np.sum(counts[kept]))
+        if total == 0:
             return 0.0
-        sigma = math.sqrt(float(np.mean(kept * kept))) / _CLIPPED_RMS
+        sigma = math.sqrt(float(np.sum(counts[kept] * squares[kept])) / total) / _CLIPPED_RMS
     return sigma
+
+
+def estimate_guide_noise(guide: np.ndarray) -> float:
+    """Noise standard deviation of an 8-bit color image, in levels (RMS over its channels).
+
+    The same estimate as :func:`estimate_noise` (the finest diagonal Haar
+    band, clipped RMS), over the bands of all channels at once; the band of
+    8-bit values takes at most 1021 values, so it is taken from their
+    histogram (about 25 ms for 1.5 megapixels).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> noisy = np.clip(128 + rng.normal(0, 5, (200, 200, 3)), 0, 255).round().astype(np.uint8)
+    >>> round(estimate_guide_noise(noisy))
+    5
+    """
+    h, w = (guide.shape[0] // 2) * 2, (guide.shape[1] // 2) * 2
+    if h == 0 or w == 0:
+        return 0.0
+    g = guide[:h, :w].astype(np.int16)
+    band = g[0::2, 0::2] - g[0::2, 1::2]
+    band -= g[1::2, 0::2]
+    band += g[1::2, 1::2]
+    counts = np.bincount((band + 510).ravel(), minlength=1021).astype(np.float64)
+    return _clipped_rms((np.arange(1021) - 510) * 0.5, counts)
+
+
+#: The mixed-pixel test of :func:`footprint_share`: a jump is larger than this many noise sigmas ...
+_MIXED_SIGMAS = 8.0
+#: ... and than this share of the depth range (1st to 99th percentile).
+_MIXED_SPAN = 0.1
+#: A middle pixel is mixed when it is off both sides by more than this many noise sigmas and share of the jump.
+_MIXED_APART_SIGMAS, _MIXED_APART = 4.0, 0.05
+#: Fewer jumps than this: too few to tell, the input counts as footprint means.
+_MIXED_MIN_JUMPS = 20
+
+
+def footprint_share(depth: np.ndarray, params: GbpParams | None = None) -> float:
+    """How far the input looks like footprint means (1) rather than point samples (0), from the input alone.
+
+    Over every three consecutive valid pixels of a row or a column whose
+    outer two differ by a large jump (more than 8 noise sigmas and 10 % of
+    the depth range), the share ``m`` of middle pixels that lie between the
+    outer two, off both by more than 4 noise sigmas and 5 % of the jump, is
+    counted. A pixel that integrates its footprint (a ToF pixel; an area or
+    antialiased reduction) straddles an edge in about half of such
+    triplets; a point sample is on one side of it.
+    The result ramps from 0 at ``m = mixed_low`` to 1 at ``mixed_high``;
+    it is 1 when the input has fewer than 20 such jumps.
+
+    Examples
+    --------
+    >>> point, mean = np.array([[5, 5, 15, 15]] * 16, np.float32), np.array([[5, 5, 10, 15, 15]] * 16, np.float32)
+    >>> footprint_share(point), footprint_share(mean)
+    (0.0, 1.0)
+    """
+    p = GbpParams() if params is None else params
+    d = as_depth(depth)
+    valid = np.isfinite(d)
+    if valid.sum() < 4:
+        return 1.0
+    filled = fill_invalid_nearest(d)
+    sigma = estimate_noise(filled, valid)
+    jump = max(_MIXED_SIGMAS * sigma, _MIXED_SPAN * _span(filled, valid))
+    middles = 0
+    jumps = 0
+    for a, b, c in ((d[:, :-2], d[:, 1:-1], d[:, 2:]), (d[:-2], d[1:-1], d[2:])):
+        with np.errstate(invalid="ignore"):
+            ok = np.abs(c - a) > jump     # False where any of the three is NaN
+        a, b, c = a[ok], b[ok], c[ok]
+        # mixed: the middle pixel is off both sides, by more than the noise and 5 % of the jump
+        apart = np.maximum(_MIXED_APART_SIGMAS * sigma, _MIXED_APART * np.abs(c - a))
+        middles += int(np.count_nonzero((np.minimum(np.abs(b - a), np.abs(c - b)) > apart)
+                                        & (np.sign(b - a) == np.sign(c - b))))
+        jumps += int(a.size)
+    if jumps < _MIXED_MIN_JUMPS:
+        return 1.0
+    return float(np.clip((middles / jumps - p.mixed_low) / (p.mixed_high - p.mixed_low), 0.0, 1.0))
 
 
 def _resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.ndarray:
@@ -331,8 +452,26 @@ def _span(filled: np.ndarray, valid: np.ndarray) -> float:
 
 
 def _noise_levels(filled: np.ndarray, valid: np.ndarray) -> float:
-    """The input's noise in 8-bit levels of its own depth range (unit-free)."""
-    return 255.0 * estimate_noise(filled, valid) / _span(filled, valid)
+    """The input's noise in 8-bit levels of its own depth range (unit-free), blind to smooth curvature.
+
+    The band is the 3x3 product of second differences ``[1, -2, 1]`` along
+    rows and columns (divided by 6, Immerkaer 1996), which is zero on any
+    surface quadratic in each direction, where the diagonal Haar band of
+    :func:`estimate_noise` sees a curved surface's twist as noise; clipped
+    RMS as there. It decides how far the fallback is denoised (step 4).
+    """
+    import cv2
+
+    band = cv2.filter2D(filled.astype(np.float32), -1, _SECOND_ORDER, borderType=cv2.BORDER_REFLECT)[1:-1, 1:-1]
+    inner = cv2.erode(valid.astype(np.uint8), np.ones((3, 3), np.uint8))[1:-1, 1:-1] > 0
+    coef = band[inner].astype(np.float64)
+    if coef.size < 16:
+        return 0.0
+    return 255.0 * _clipped_rms(coef, np.ones(coef.shape)) / _span(filled, valid)
+
+
+#: Product of second differences along rows and columns, unit noise gain (``_noise_levels``).
+_SECOND_ORDER = np.array([[1, -2, 1], [-2, 4, -2], [1, -2, 1]], np.float32) / 6.0
 
 
 def _noise_share(sigma_levels: float, p: GbpParams) -> float:
@@ -340,12 +479,25 @@ def _noise_share(sigma_levels: float, p: GbpParams) -> float:
     return min(1.0, sigma_levels / p.flat_noise)
 
 
+def _reduce(x: np.ndarray, shape: tuple[int, int], box: float) -> np.ndarray:
+    """The data model ``D``: footprint means (``box = 1``), point samples (0, at the pixels' centres), or a blend."""
+    import cv2
+
+    if box >= 1.0:
+        return _resize(x, shape, cv2.INTER_AREA)
+    point = _resize(x, shape, cv2.INTER_NEAREST_EXACT)
+    if box <= 0.0:
+        return point
+    return point + box * (_resize(x, shape, cv2.INTER_AREA) - point)
+
+
 def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
-                     progress: Progress | None = None) -> np.ndarray:
+                     progress: Progress | None = None, box: float = 1.0) -> np.ndarray:
     """Steps 1-3: back-projected, edge-aware detail blended with the flat-area solve.
 
     ``depth`` is float32 with NaN for invalid pixels (at least one valid);
-    ``guide`` is the (H, W, 3) uint8 color image. Returns (H, W) float32,
+    ``guide`` is the (H, W, 3) uint8 color image; ``box`` the input's
+    footprint share (:func:`footprint_share`). Returns (H, W) float32,
     clipped to the valid range of ``depth``.
     """
     import cv2
@@ -360,20 +512,22 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams,
     sigma = estimate_noise(filled, valid)
     sigma_levels = 255.0 * sigma / span
 
-    lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2)
+    lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2) * (1.0 + (p.point_lambda - 1.0) * (1.0 - box))
+    guide_sigma = p.guide_noise * estimate_guide_noise(guide)
     x = _clamped_bicubic(filled, (H, W), _near_jump(depth, p))
     for k in range(p.iterations):
         # geometric schedule lambda_first -> lambda_last over the rounds
         ratio = p.lambda_first * (p.lambda_last / p.lambda_first) ** (k / max(1, p.iterations - 1))
-        residual = filled - _resize(x, (h, w), cv2.INTER_AREA)
+        residual = filled - _reduce(x, (h, w), box)
         residual[~valid] = 0.0
         x += _resize(residual, (H, W), cv2.INTER_CUBIC)
-        x = fgs(guide, x, lam * ratio, p.sigma_color)
+        x = fgs(guide, x, lam * ratio, max(p.sigma_color, guide_sigma))
         np.clip(x, lo, hi, out=x)
         if progress is not None:
             progress(k + 1, p.iterations + 1)
 
-    flat = fgs(guide, _resize(filled, (H, W), cv2.INTER_LINEAR), p.flat_lambda_lr * s, p.flat_sigma_color)
+    flat = fgs(guide, _resize(filled, (H, W), cv2.INTER_LINEAR), p.flat_lambda_lr * s,
+               max(p.flat_sigma_color, guide_sigma))
     kernel = np.ones((3, 3), np.uint8)
     local_range = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel)
     edge = np.clip((local_range - p.edge_low * sigma) / (p.edge_width * sigma + 1e-6 * span), 0.0, 1.0)
@@ -514,7 +668,8 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     guide = _guide8(check_rgb(rgb_hr))
     depth = as_depth(depth_lr)
     (h, w), (H, W) = depth.shape, guide.shape[:2]
-    result = _guided_estimate(depth, guide, p, progress)
+    box = footprint_share(depth, p)
+    result = _guided_estimate(depth, guide, p, progress, box)
     if p.trust:
         trust = guide_trust(depth, guide, p)
         if p.trust_floor > 0:
@@ -524,7 +679,7 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
         # far as the input is noise-free (there is nothing to average away then)
         filled = fill_invalid_nearest(depth)
         valid = np.isfinite(depth)
-        reduced = _resize(result, (h, w), cv2.INTER_AREA)
+        reduced = _reduce(result, (h, w), box)
         share = _noise_share(_noise_levels(filled, valid), p)
         reduced = np.where(valid, reduced + (1.0 - share) * (filled - reduced), reduced).astype(np.float32)
         base = _clamped_bicubic(reduced, (H, W), _near_jump(depth, p))
@@ -583,6 +738,8 @@ def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: G
 
     result = upsample_gbp(depth_lr, rgb_hr, params=params, progress=progress)
     depth = as_depth(depth_lr)
+    guide = _guide8(check_rgb(rgb_hr))
+    guide3 = cv2.blur(guide.astype(np.float32), (3, 3), borderType=cv2.BORDER_REPLICATE)
     valid = np.isfinite(depth)
     filled = fill_invalid_nearest(depth)
     mean3 = cv2.blur(filled, (3, 3), borderType=cv2.BORDER_REPLICATE)
@@ -597,10 +754,16 @@ def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: G
         # no margin beyond the 3x3 mean's own reach: a margin of 1 or 2 more input pixels cut the flicker less
         # (make_sequence, 12 frames: -30 % / -25 % against -38 %) and did not lower the RMSE
         changed = _resize((~steady).astype(np.uint8), result.shape, cv2.INTER_NEAREST) > 0
+        # the guide moved (an edge the result follows) although the input did not: start afresh there too,
+        # as far as the solve's reach (one input pixel)
+        guide_tolerance = _WARM_SIGMAS * estimate_guide_noise(guide) / 3.0 * math.sqrt(2.0) + 1.0
+        moved = (np.abs(guide3 - state["guide3"]).max(axis=2) > guide_tolerance).astype(np.uint8)
+        reach = 2 * math.ceil(result.shape[0] / depth.shape[0]) + 1
+        changed |= cv2.dilate(moved, np.ones((reach, reach), np.uint8)) > 0
         count = np.where(changed, 1.0, np.minimum(state["count"] + 1.0, _WARM_FRAMES)).astype(np.float32)
         # out <- prev + (result - prev) / count where steady; result where changed (count 1)
         prev = state["out"]
         out = (prev + (result - prev) / count).astype(np.float32)
         out[changed] = result[changed]
         np.clip(out, float(np.nanmin(depth)), float(np.nanmax(depth)), out=out)
-    return out, {"shape": shape, "mean3": mean3, "valid3": valid3, "out": out.copy(), "count": count}
+    return out, {"shape": shape, "mean3": mean3, "valid3": valid3, "guide3": guide3, "out": out.copy(), "count": count}
