@@ -126,19 +126,19 @@ def test_a_guide_of_pure_texture_over_a_smooth_depth_is_no_worse_than_bicubic(rn
 
 
 @pytest.mark.parametrize("name", ["checkerboard", "stripes"])
-def test_the_guide_trust_undoes_most_of_the_harm_of_a_structured_texture(rng, name):
-    """Strong texture edges over a smooth surface: the guided estimate copies them; the trust takes most back.
+def test_the_guide_trust_undoes_the_harm_of_a_structured_texture(rng, name):
+    """Strong texture edges over a smooth surface: the guided estimate copies them; the trust takes them back.
 
-    Measured (RMSE, levels): checkerboard 1.50 without the trust, 0.1636 with it, bicubic 0.1628; stripes
-    0.75 / 0.1669 / 0.1628. The trust is zero away from depth jumps of the input (``jump_levels``), so
-    these stay within 2.5 % of bicubic; the remainder is the denoised fallback (docs/bench.md).
+    Measured (RMSE, levels): checkerboard 1.50 without the trust, 0.1628 with it, bicubic 0.1628; stripes
+    0.75 / 0.1628 / 0.1628. The trust is zero away from depth jumps of the input (``jump_levels``), and the
+    fallback there is the bicubic enlargement of the input itself, as its noise is zero.
     """
     smooth, textures = _smooth_and_textures(rng)
     depth_lr, texture = _area(smooth, 4), textures[name]
     ours = rmse(depthrefine.refine(depth_lr, texture), smooth)
     untrusted = rmse(depthrefine.refine(depth_lr, texture, params=GbpParams(trust=False)), smooth)
     bicubic = rmse(_bicubic(depth_lr, texture), smooth)
-    assert ours < 0.25 * untrusted and ours < 1.04 * bicubic, (ours, untrusted, bicubic)
+    assert ours < 0.25 * untrusted and ours <= bicubic, (ours, untrusted, bicubic)
 
 
 def test_the_guide_trust_falls_where_the_guide_disagrees(rng):
