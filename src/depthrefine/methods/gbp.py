@@ -7,16 +7,23 @@ to know about the input (its noise level, where its depth edges are, how far
 the color image can be trusted) it measures from the input itself, so one set
 of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
 
-1. **Noise.** The noise ``sigma`` is estimated from the finest diagonal Haar
-   band of ``y`` (a clipped RMS, robust to the few depth edges in that band),
-   and expressed in 8-bit levels of the map's own depth range (1st to 99th
-   percentile), so the same value means the same thing in any unit.
+1. **Noise and sampling.** The noise ``sigma`` is estimated from the finest
+   diagonal Haar band of ``y`` (a clipped RMS, robust to the few depth edges
+   in that band), and expressed in 8-bit levels of the map's own depth range
+   (1st to 99th percentile), so the same value means the same thing in any
+   unit. The guide's own noise is estimated the same way (its color
+   sensitivity in both solves is at least ``guide_noise`` times it), and
+   whether the input holds footprint means or point samples is told from
+   its edges (:func:`footprint_share`: footprint means leave mixed pixels
+   between the two sides of a jump, point samples do not).
 2. **Detail: back-projection with an edge-aware solve.** Start from the
    clipped bicubic enlargement (bicubic, clipped to the range of each
    pixel's 3x3 input neighbourhood, so that it does not ring at depth
    jumps); repeat ``iterations`` times: add the bicubic enlargement of
    the residual ``y - D(x)`` (``D``: the mean over each pixel's footprint,
-   the integration a ToF pixel does), then smooth with OpenCV-contrib's fast
+   the integration a ToF pixel does; for a point-sampled input the value at
+   each pixel's centre, with ``point_lambda`` times the smoothing to fill
+   the gaps between the samples), then smooth with OpenCV-contrib's fast
    global smoother (weighted least squares, Min et al. 2014) guided by the
    color image, with a strength that grows with ``sigma**2`` and falls
    geometrically over the rounds (``lambda_first`` to ``lambda_last``: early
@@ -54,8 +61,10 @@ valid range and is deterministic (bit-identical for the same input).
 
 Parameters were chosen on the benchmark's tuning scenes (Park's Dolls and
 Laundry, four scenes of the 30-image Middlebury set; ``docs/bench.md``), with
-two exceptions said on their fields: ``lambda_lr`` was lowered after seeing
-the ``lu`` scenes, and ``hole_margin`` was chosen on the real Kinect capture.
+three exceptions said on their fields: ``lambda_lr`` was lowered after seeing
+the ``lu`` scenes, ``hole_margin`` was chosen on the real Kinect capture, and
+``point_lambda`` (which no benchmark input uses: all hold footprint means) on
+generated point-sampled scenes.
 
 References
 ----------
@@ -712,11 +721,15 @@ def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: G
     Each frame is refined as by :func:`upsample_gbp`. Where the input did not
     change since the previous frame (its 3x3 mean, valid in both frames,
     moved by at most 3 noise sigmas of the current frame; any change at all
-    on a noise-free input), the output is the running mean of this result
-    and the previous output, over at most 8 frames: the noise left in each
-    frame's result averages out instead of flickering. Elsewhere (a moving
-    object, a new or lost measurement; the 3x3 mean flags the input pixels
-    next to a change too) the pixel starts afresh with this frame's result.
+    on a noise-free input) and the guide did not move either (no channel of
+    its 3x3 mean moved by more than 3 of its noise sigmas, scaled to the
+    mean, plus one level, within one input pixel's reach), the output is
+    the running mean of this result and the previous output, over at most
+    8 frames: the noise left in each frame's result averages out instead of
+    flickering. Elsewhere (a moving object, a new or lost measurement; the
+    3x3 mean flags the input pixels next to a change too; a color edge that
+    moved between two input samples, which the result follows) the pixel
+    starts afresh with this frame's result.
     The output is clipped to this frame's valid input range. Deterministic.
 
     With ``state=None`` (the first frame) the result is :func:`upsample_gbp`'s,
@@ -726,8 +739,9 @@ def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: G
     -------
     depth_hr : (H, W) float32 ndarray
     state : dict
-        Opaque (the previous input's 3x3 means and validity, the output, and
-        each pixel's frame count); pass it with the next frame.
+        Opaque (the previous input's 3x3 means and validity, the guide's 3x3
+        means, the output, and each pixel's frame count); pass it with the
+        next frame.
 
     Examples
     --------
