@@ -218,6 +218,19 @@ def test_footprint_means_and_point_samples_are_told_apart():
     assert footprint_share(np.full((16, 16), 5.0, np.float32)) == 1.0   # no jump: too little to tell
 
 
+def test_footprint_share_counts_only_valid_triplets():
+    # a ToF camera that drops its mixed pixels (invalid at every edge) still measures footprint means: a triplet
+    # whose middle pixel is invalid says nothing about the sampling and must not count as a point-sampled jump
+    means = np.tile(np.array([5, 5, 5, 10, 15, 15, 15, 15, 20, 25, 25, 25], np.float32), (40, 1))
+    assert footprint_share(means) == 1.0
+    dropped = means.copy()
+    dropped[:, [3, 8]] = np.nan               # no valid triplet across an edge is left: too little to tell
+    assert footprint_share(dropped) == 1.0
+    half = means.copy()
+    half[::2, [3, 8]] = np.nan                # the rows that kept their mixed pixels still show them
+    assert footprint_share(half) == 1.0
+
+
 @pytest.mark.parametrize("noise_std", [None, 0.0])
 def test_flat_colored_point_sampled_scenes_with_a_noisy_guide_beat_interpolation(noise_std):
     """The scenes the thesis method was made for: flat colors, depth edges = color edges, point samples.

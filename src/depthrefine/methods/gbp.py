@@ -401,7 +401,7 @@ def footprint_share(depth: np.ndarray, params: GbpParams | None = None) -> float
     jumps = 0
     for a, b, c in ((d[:, :-2], d[:, 1:-1], d[:, 2:]), (d[:-2], d[1:-1], d[2:])):
         with np.errstate(invalid="ignore"):
-            ok = np.abs(c - a) > jump     # False where any of the three is NaN
+            ok = (np.abs(c - a) > jump) & np.isfinite(b)     # False where any of the three is NaN
         a, b, c = a[ok], b[ok], c[ok]
         # mixed: the middle pixel is off both sides, by more than the noise and 5 % of the jump
         apart = np.maximum(_MIXED_APART_SIGMAS * sigma, _MIXED_APART * np.abs(c - a))
