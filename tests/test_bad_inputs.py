@@ -430,6 +430,19 @@ def test_internal_error_traceback_with_debug(tmp_path, capsys, monkeypatch, wher
     assert _snapshot(tmp_path) == before
 
 
+def test_missing_dependency_one_line_exit_2(tmp_path, capsys, monkeypatch):
+    """numba not installed (or broken): the thesis method says what to install, exit 2, no traceback, no output."""
+    ws = Workspace(tmp_path)
+    monkeypatch.setitem(sys.modules, "numba", None)     # import numba fails
+    monkeypatch.delitem(sys.modules, "depthrefine.methods.thesis._jit", raising=False)
+    before = _snapshot(tmp_path)
+    code, err = _run(ws.refine(), capsys)
+    assert code == 2, err
+    assert "Traceback" not in err and err.count("\n") == 1
+    assert "error:" in err and "internal error" not in err and "pip install numba" in err
+    assert _snapshot(tmp_path) == before
+
+
 def test_internal_error_while_writing_intermediates_leaves_nothing(tmp_path, capsys, monkeypatch):
     """A bug in the middle of --save-intermediate: neither the folder nor the result appears."""
     ws = Workspace(tmp_path)
