@@ -78,6 +78,17 @@ def test_every_registered_method_gives_float32_on_the_color_grid(name, small_sce
     assert np.isfinite(out).all()
 
 
+@pytest.mark.parametrize("name", ["gbp", "thesis"])
+@pytest.mark.parametrize("color_dtype", [np.uint16, np.float64])
+def test_big_endian_inputs_give_the_native_result(name, color_dtype, small_scene):
+    """A .npy written on a big-endian machine (or with dtype '>u2') is the same image: same result."""
+    rgb = small_scene.rgb_hr.astype(color_dtype) * (257 if color_dtype == np.uint16 else 1 / 255)
+    expected = refine(small_scene.depth_lr, rgb, method=name)
+    swapped = rgb.astype(rgb.dtype.newbyteorder(">" if rgb.dtype.byteorder != ">" else "<"))
+    out = refine(small_scene.depth_lr.astype(small_scene.depth_lr.dtype.newbyteorder(">")), swapped, method=name)
+    assert np.array_equal(out, expected)
+
+
 def test_register_a_new_method_and_call_it_by_name(registry, small_scene):
     entry = register_method("offset-nearest", offset_nearest, params_type=OffsetParams, summary="test", guided=False)
     assert METHODS["offset-nearest"] is entry and get_method("offset-nearest") is entry

@@ -114,6 +114,8 @@ def check_rgb(rgb: object, name: str = "rgb_hr") -> np.ndarray:
         )
     if rgb.shape[0] < 1 or rgb.shape[1] < 1:
         raise ValueError(f"{name} is empty (shape {rgb.shape}); give a non-empty image.")
+    if not rgb.dtype.isnative:  # a big-endian .npy is the same image ('>u2' != np.uint16 here)
+        rgb = rgb.astype(rgb.dtype.newbyteorder("="))
     if rgb.dtype == np.uint8 or rgb.dtype == np.uint16:
         return rgb
     if rgb.dtype in (np.float32, np.float64):
