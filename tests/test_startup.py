@@ -113,3 +113,14 @@ def test_lazy_public_names_and_subpackages_resolve():
     assert "RefineParams" in dir(depthrefine) and "io" in dir(depthrefine)
     with pytest.raises(AttributeError, match="no_such_name"):
         depthrefine.no_such_name  # noqa: B018
+
+
+def test_every_public_submodule_is_an_attribute_of_a_fresh_import():
+    # ``depthrefine.batch`` (as ``depthrefine.io``) without importing it first, in a fresh interpreter
+    probe = ("import json, pkgutil, depthrefine\n"
+             "subs = [m.name for m in pkgutil.iter_modules(depthrefine.__path__) if not m.name.startswith('_')]\n"
+             "print(json.dumps([[s, s in dir(depthrefine), hasattr(depthrefine, s)] for s in subs]))")
+    res = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    found = json.loads(res.stdout)
+    assert "batch" in [name for name, *_ in found]
+    assert [name for name, listed, present in found if not (listed and present)] == []

@@ -36,7 +36,7 @@ _EXPORTS = {
     ".methods.gbp": ("GbpParams",),
     ".methods.thesis.refine": ("Refinement", "ScaleWarning", "refine_with_intermediates"),
 }
-_SUBPACKAGES = ("methods", "rig", "bench", "io", "cli", "viz", "evaluate")
+_SUBPACKAGES = ("methods", "rig", "bench", "io", "cli", "batch", "viz", "evaluate")
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _SUBPACKAGES)
 
