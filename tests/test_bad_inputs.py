@@ -888,3 +888,20 @@ def test_other_cases_cover_every_command():
     commands = set(cli.build_parser()._subparsers._group_actions[0].choices)
     covered = {"refine"} | {name.split(":")[0] for name in OTHER_CASES}
     assert commands <= covered, f"no bad-input case for {sorted(commands - covered)}"
+
+
+def test_missing_dependency_in_batch_says_what_to_install(monkeypatch):
+    """A frame that needs a missing package (numba for the thesis method) fails with the pip advice, not an internal error."""
+    from distributed import Client, LocalCluster
+
+    from depthrefine.batch import refine_many
+
+    monkeypatch.setitem(sys.modules, "numba", None)     # import numba fails (the workers are threads of this process)
+    monkeypatch.delitem(sys.modules, "depthrefine.methods.thesis._jit", raising=False)
+    frames = {0: (np.full((8, 8), 100, np.uint8), np.zeros((32, 32, 3), np.uint8))}
+    with LocalCluster(n_workers=1, processes=False) as cluster, Client(cluster) as client:
+        with pytest.raises(RuntimeError) as info:
+            list(refine_many(frames, method="thesis", client=client))
+    message = str(info.value)
+    assert "pip install numba" in message and "internal error" not in message and "\n" not in message
+

@@ -19,7 +19,7 @@ import importlib
 from types import ModuleType
 from typing import Any, Callable, Iterable, Mapping
 
-__all__ = ["LazyModule", "lazy_exports", "cv2", "ndimage", "numpy", "tifffile"]
+__all__ = ["LazyModule", "lazy_exports", "missing_dependency", "cv2", "ndimage", "numpy", "tifffile"]
 
 
 class LazyModule:
@@ -92,3 +92,34 @@ cv2 = LazyModule("cv2")
 ndimage = LazyModule("scipy.ndimage")
 numpy = LazyModule("numpy")
 tifffile = LazyModule("tifffile")
+
+
+#: pip's name of a dependency whose import name differs (:func:`missing_dependency`).
+_PIP_NAMES = {"cv2": "opencv-contrib-python-headless", "PIL": "pillow", "distributed": "dask[distributed]",
+              "dask": "dask[distributed]", "skimage": "scikit-image", "yaml": "pyyaml"}
+
+
+def missing_dependency(exc: BaseException) -> str | None:
+    """pip's name of the third-party package whose import failed, else None (one of our own modules: a bug).
+
+    Examples
+    --------
+    >>> missing_dependency(ModuleNotFoundError("No module named 'numba'", name="numba"))
+    'numba'
+    >>> missing_dependency(ModuleNotFoundError("x", name="cv2.ximgproc"))
+    'opencv-contrib-python-headless'
+    >>> missing_dependency(ModuleNotFoundError("x", name="depthrefine.nothing")) is None
+    True
+    """
+    if not isinstance(exc, ModuleNotFoundError):
+        return None
+    package = (exc.name or "").partition(".")[0]
+    if not package or package == __name__.partition(".")[0]:
+        return None
+    return _PIP_NAMES.get(package, package)
+
+
+def missing_dependency_message(package: str, exc: BaseException) -> str:
+    """The one-line advice for a missing third-party package (the CLI and batch print it)."""
+    detail = " ".join(str(exc).split()) or type(exc).__name__
+    return f"this needs the Python package {package}, which is missing or broken ({detail}); install it: pip install {package}"

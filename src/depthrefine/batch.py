@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from ._lazy import missing_dependency, missing_dependency_message
 from .methods.registry import DEFAULT_METHOD, Method, check_call, get_method
 
 __all__ = ["refine_many", "FrameResult", "run_frames", "local_client", "DEFAULT_CHUNK"]
@@ -364,8 +365,10 @@ def _solve_chunk(entry: Method, params: Any, temporal: bool, items: list) -> lis
             rows.append((order, key, None, time.perf_counter() - start, _one_line(exc), True))
             continue
         except Exception as exc:  # noqa: BLE001 - reported per frame as an internal error
-            rows.append((order, key, None, time.perf_counter() - start,
-                         f"internal error: {type(exc).__name__}: {_one_line(exc)}", False))
+            package = missing_dependency(exc)  # e.g. numba for the thesis method: the user can fix it
+            message = (missing_dependency_message(package, exc) if package
+                       else f"internal error: {type(exc).__name__}: {_one_line(exc)}")
+            rows.append((order, key, None, time.perf_counter() - start, message, False))
             continue
         rows.append((order, key, depth_hr if is_wanted else None, time.perf_counter() - start, None, False))
     return rows

@@ -31,7 +31,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .._lazy import cv2
-from ..methods.registry import DEFAULT_METHOD
+from ..methods._names import DEFAULT_METHOD
 from .protocols import PROTOCOLS, left_out_reason
 from .runner import METRICS, ROW_FIELDS, BenchCase, BenchRow, mean_and_count, mean_or_nan
 from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask

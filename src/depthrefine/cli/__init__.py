@@ -31,6 +31,7 @@ import warnings
 from typing import Sequence
 
 from .. import __version__
+from .._lazy import missing_dependency, missing_dependency_message
 
 __all__ = ["main", "build_parser", "CliError"]
 
@@ -133,29 +134,13 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # noqa: BLE001 - the last resort: internal failure
         if args.debug:
             traceback.print_exc()
-        package = _missing_dependency(exc)
+        package = missing_dependency(exc)
         if package:  # an optional import inside a command (numba for the thesis method): the user can fix it
-            print(f"depthrefine {args.command}: error: this command needs the Python package {package}, which is "
-                  f"missing or broken ({_one_line(exc)}); install it: pip install {package}", file=sys.stderr)
+            print(f"depthrefine {args.command}: error: {missing_dependency_message(package, exc)}", file=sys.stderr)
             return 2
         print(f"depthrefine {args.command}: internal error: {type(exc).__name__}: {_one_line(exc)} "
               "(run with --debug for the traceback and report it)", file=sys.stderr)
         return 1
-
-
-#: pip's name of a dependency whose import name differs (the missing-dependency error).
-_PIP_NAMES = {"cv2": "opencv-contrib-python-headless", "PIL": "pillow", "distributed": "dask[distributed]",
-              "dask": "dask[distributed]", "skimage": "scikit-image", "yaml": "pyyaml"}
-
-
-def _missing_dependency(exc: BaseException) -> str | None:
-    """pip's name of the third-party package whose import failed, else None (our own modules: a bug)."""
-    if not isinstance(exc, ModuleNotFoundError):
-        return None
-    package = (exc.name or "").partition(".")[0]
-    if not package or package == __name__.partition(".")[0]:
-        return None
-    return _PIP_NAMES.get(package, package)
 
 
 def _one_line(exc: BaseException) -> str:
