@@ -430,11 +430,19 @@ def test_internal_error_traceback_with_debug(tmp_path, capsys, monkeypatch, wher
     assert _snapshot(tmp_path) == before
 
 
+def _block_numba(monkeypatch):
+    """Make ``import numba`` fail, and forget the thesis kernels if an earlier test imported them."""
+    import depthrefine.methods.thesis as thesis
+
+    monkeypatch.setitem(sys.modules, "numba", None)
+    monkeypatch.delitem(sys.modules, "depthrefine.methods.thesis._jit", raising=False)
+    monkeypatch.delattr(thesis, "_jit", raising=False)
+
+
 def test_missing_dependency_one_line_exit_2(tmp_path, capsys, monkeypatch):
     """numba not installed (or broken): the thesis method says what to install, exit 2, no traceback, no output."""
     ws = Workspace(tmp_path)
-    monkeypatch.setitem(sys.modules, "numba", None)     # import numba fails
-    monkeypatch.delitem(sys.modules, "depthrefine.methods.thesis._jit", raising=False)
+    _block_numba(monkeypatch)
     before = _snapshot(tmp_path)
     code, err = _run(ws.refine(), capsys)
     assert code == 2, err
@@ -896,8 +904,7 @@ def test_missing_dependency_in_batch_says_what_to_install(monkeypatch):
 
     from depthrefine.batch import refine_many
 
-    monkeypatch.setitem(sys.modules, "numba", None)     # import numba fails (the workers are threads of this process)
-    monkeypatch.delitem(sys.modules, "depthrefine.methods.thesis._jit", raising=False)
+    _block_numba(monkeypatch)                           # the workers are threads of this process
     frames = {0: (np.full((8, 8), 100, np.uint8), np.zeros((32, 32, 3), np.uint8))}
     with LocalCluster(n_workers=1, processes=False) as cluster, Client(cluster) as client:
         with pytest.raises(RuntimeError) as info:
