@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
 from scipy import ndimage
 
+from depthrefine.methods.thesis import median as median_module
 from depthrefine.methods.thesis.median import median_filter, median_network
 
 
@@ -88,6 +90,27 @@ def test_median_filter_in_row_bands_and_chunks_equals_one_pass(monkeypatch):
     monkeypatch.setattr("depthrefine.methods.thesis.median._MIN_PAIRS_PER_TASK", 4)
     monkeypatch.setattr("depthrefine.methods.thesis.median._CHUNK", 20)
     np.testing.assert_array_equal(median_filter(img, 7), expected)
+
+
+def test_generated_kernels_are_current():
+    # _median_kernels.py is generated (python -m depthrefine.methods.thesis.median > .../_median_kernels.py).
+    path = Path(median_module.__file__).with_name("_median_kernels.py")
+    assert path.read_text() == median_module.kernels_module()
+
+
+@pytest.mark.parametrize("size", [3, 5, 7])
+@pytest.mark.parametrize("shape", [(6, 700), (5, 300, 3), (4, 90, 3)])
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+def test_generated_kernels_across_strips(size, shape, dtype):
+    # Rows wider than one strip of lanes (the last strip partial, ending inside a pixel), few rows.
+    rng = np.random.default_rng(size + shape[1])
+    img = rng.integers(0, np.iinfo(dtype).max, shape, endpoint=True).astype(dtype)
+    assert size in median_module.GENERATED_SIZES and (img.shape + (1,))[2] in median_module.GENERATED_CHANNELS
+    out = median_filter(img, size)
+    planes = img if img.ndim == 3 else img[:, :, None]
+    expected = np.stack([ndimage.median_filter(planes[:, :, c], size=size, mode="nearest")
+                         for c in range(planes.shape[2])], axis=2).reshape(img.shape)
+    np.testing.assert_array_equal(out, expected)
 
 
 @pytest.mark.parametrize("size", [1, 4, -3])
