@@ -117,80 +117,6 @@ class _Network:
         return out
 
 
-@functools.lru_cache(maxsize=None)
-def median_network(size: int) -> tuple[np.ndarray, int, tuple[int, int]]:
-    """The program that makes two output rows of a ``size`` x ``size`` median.
-
-    Inputs are ``size + 1`` consecutive rows of the edge-padded image (slots
-    ``0 .. size``); the outputs are the medians of the windows on rows
-    ``0 .. size-1`` and ``1 .. size``.
-
-    Returns
-    -------
-    table : (n_ops, 7) int32 ndarray
-        Rows ``(kind, dst, a, a_offset, b, b_offset, extra)``: for lanes
-        ``x < width + extra``, ``slot[dst][x] = min (kind 0) or max (kind 1)
-        of slot[a][x + a_offset] and slot[b][x + b_offset]``. ``dst`` is never
-        ``a`` or ``b``.
-    n_slots : int
-        Row buffers the program needs.
-    outputs : (int, int)
-        The slots holding the two output rows.
-    """
-    net = _Network(size + 1)
-    rows = [(i, 0) for i in range(size + 1)]
-    k = size * size // 2
-    core = net.sort_across(net.sort(rows[1:size]), size)
-    outs = [net.select(core, net.sort_across([rows[r]], size), k) for r in (0, size)]
-
-    # Keep only what the outputs depend on; lanes each value needs past the output width.
-    need: dict[int, int] = {}
-    for v, off in outs:
-        need[v] = max(need.get(v, 0), off)
-    live = []
-    for idx in range(len(net.ops) - 1, -1, -1):
-        v = net.n_inputs + idx
-        if v in need:
-            live.append(idx)
-            _, a, a_off, b, b_off = net.ops[idx]
-            need[a] = max(need.get(a, 0), need[v] + a_off)
-            need[b] = max(need.get(b, 0), need[v] + b_off)
-    live.reverse()
-
-    # Slots: a value's slot is free after its last use (outputs are kept to the end).
-    last = {}
-    for pos, idx in enumerate(live):
-        _, a, _, b, _ = net.ops[idx]
-        last[a] = last[b] = pos
-    for v, _ in outs:
-        last[v] = len(live)
-    slot = {i: i for i in range(net.n_inputs)}
-    free: list[int] = []
-    n_slots = net.n_inputs
-    table = []
-    for pos, idx in enumerate(live):
-        kind, a, a_off, b, b_off = net.ops[idx]
-        if free:
-            dst = free.pop()
-        else:
-            dst, n_slots = n_slots, n_slots + 1
-        table.append((kind, dst, slot[a], a_off, slot[b], b_off, need[net.n_inputs + idx]))
-        for v in {a, b}:
-            if last[v] == pos:
-                free.append(slot[v])
-        slot[net.n_inputs + idx] = dst
-    return np.array(table, dtype=np.int32), n_slots, (slot[outs[0][0]], slot[outs[1][0]])
-
-
-
-#: Window sizes and channel counts with a generated kernel in :mod:`._median_kernels`.
-GENERATED_SIZES = (3, 5, 7)
-GENERATED_CHANNELS = (1, 3)
-
-#: Bytes of row buffers a generated kernel may use for uint8 (they stay in the L1 cache).
-_STRIP_BYTES = 28 * 1024
-
-
 def _program(size: int) -> tuple[int, list, list, dict]:
     """The live operations of the network of :func:`median_network`, before slots are assigned.
 
@@ -215,7 +141,60 @@ def _program(size: int) -> tuple[int, list, list, dict]:
             need[a] = max(need.get(a, 0), need[v] + a_off)
             need[b] = max(need.get(b, 0), need[v] + b_off)
     live.reverse()
+    assert all(off == 0 for _, off in outs)
     return net.n_inputs, [(net.n_inputs + i,) + net.ops[i] for i in live], [v for v, _ in outs], need
+
+
+@functools.lru_cache(maxsize=None)
+def median_network(size: int) -> tuple[np.ndarray, int, tuple[int, int]]:
+    """The program that makes two output rows of a ``size`` x ``size`` median.
+
+    Inputs are ``size + 1`` consecutive rows of the edge-padded image (slots
+    ``0 .. size``); the outputs are the medians of the windows on rows
+    ``0 .. size-1`` and ``1 .. size``.
+
+    Returns
+    -------
+    table : (n_ops, 7) int32 ndarray
+        Rows ``(kind, dst, a, a_offset, b, b_offset, extra)``: for lanes
+        ``x < width + extra``, ``slot[dst][x] = min (kind 0) or max (kind 1)
+        of slot[a][x + a_offset] and slot[b][x + b_offset]``. ``dst`` is never
+        ``a`` or ``b``.
+    n_slots : int
+        Row buffers the program needs.
+    outputs : (int, int)
+        The slots holding the two output rows.
+    """
+    n_inputs, ops, outs, need = _program(size)
+    # Slots: a value's slot is free after its last use (outputs are kept to the end).
+    last = {}
+    for pos, (_, _, a, _, b, _) in enumerate(ops):
+        last[a] = last[b] = pos
+    for v in outs:
+        last[v] = len(ops)
+    slot = {i: i for i in range(n_inputs)}
+    free: list[int] = []
+    n_slots = n_inputs
+    table = []
+    for pos, (v, kind, a, a_off, b, b_off) in enumerate(ops):
+        if free:
+            dst = free.pop()
+        else:
+            dst, n_slots = n_slots, n_slots + 1
+        table.append((kind, dst, slot[a], a_off, slot[b], b_off, need[v]))
+        for u in {a, b}:
+            if last[u] == pos:
+                free.append(slot[u])
+        slot[v] = dst
+    return np.array(table, dtype=np.int32), n_slots, (slot[outs[0]], slot[outs[1]])
+
+
+#: Window sizes and channel counts with a generated kernel in :mod:`._median_kernels`.
+GENERATED_SIZES = (3, 5, 7)
+GENERATED_CHANNELS = (1, 3)
+
+#: Bytes of row buffers a generated kernel may use for uint8 (they stay in the L1 cache).
+_STRIP_BYTES = 28 * 1024
 
 
 def _kernel_source(size: int, channels: int) -> str:
@@ -321,8 +300,9 @@ def median_filter(image: np.ndarray, size: int) -> np.ndarray:
 
     Identical to ``cv2.medianBlur(image, size)`` for uint8 and to
     ``scipy.ndimage.median_filter(channel, size, mode="nearest")`` per channel
-    for any integer dtype. The network runs in a compiled kernel
-    (:func:`._jit.median_rows`, numba) on bands of row pairs in threads.
+    for any integer dtype. The network runs in a compiled kernel (numba; a
+    generated one of :mod:`._median_kernels` for the sizes and channel counts
+    it holds, else :func:`._jit.median_rows`) on bands of row pairs in threads.
 
     Parameters
     ----------

@@ -40,7 +40,7 @@ def median_rgb(rgb: np.ndarray, size: int = 7) -> np.ndarray:
         Odd side of the square window (thesis: 7). Borders replicate the
         edge pixel. Integer images up to :data:`NETWORK_MAX_SIZE` use the
         exact min/max network of :mod:`.median` (the same output as
-        ``cv2.medianBlur``, in about 40 % of its time at 7x7 on 1232x1008
+        ``cv2.medianBlur``, in about 15 % of its time at 7x7 on 1232x1008
         on a loaded 2-core machine; ``benchmarks/bench_speed.py`` prints the
         median step).
 
