@@ -99,10 +99,11 @@ def test_generated_kernels_are_current():
 
 
 @pytest.mark.parametrize("size", [3, 5, 7])
-@pytest.mark.parametrize("shape", [(6, 700), (5, 300, 3), (4, 90, 3)])
-@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+@pytest.mark.parametrize(("shape", "dtype"), [((6, 700), np.uint8), ((6, 700), np.uint16), ((5, 300, 3), np.uint8),
+                                              ((4, 90, 3), np.uint8)])
 def test_generated_kernels_across_strips(size, shape, dtype):
     # Rows wider than one strip of lanes (the last strip partial, ending inside a pixel), few rows.
+    # (3-channel uint16 runs the same code as uint8; left out to spare its compile time.)
     rng = np.random.default_rng(size + shape[1])
     img = rng.integers(0, np.iinfo(dtype).max, shape, endpoint=True).astype(dtype)
     assert size in median_module.GENERATED_SIZES and (img.shape + (1,))[2] in median_module.GENERATED_CHANNELS
