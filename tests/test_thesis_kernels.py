@@ -227,3 +227,25 @@ def test_kmeans_rejects_features_that_are_not_finite():
     x = np.array([[0.0, 1.0], [np.nan, 2.0]])
     with pytest.raises(ValueError, match="finite"):
         segment.kmeans(x, 2)
+
+
+def test_without_a_cache_directory_the_kernels_compile_in_memory_with_one_warning(monkeypatch):
+    import warnings
+
+    from depthrefine.methods.thesis import _jit
+
+    real = _jit.numba.njit
+
+    def njit(**options):
+        if options.get("cache"):
+            raise RuntimeError("cannot cache function: no locator available")
+        return real(**options)
+
+    monkeypatch.setattr(_jit.numba, "njit", njit)
+    monkeypatch.setattr(_jit, "_warned_no_cache", False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        double = _jit._jit(lambda x: 2 * x)
+        triple = _jit._jit(lambda x: 3 * x)
+    assert (double(4), triple(4)) == (8, 12)
+    assert [str(w.message).split(":")[0] for w in caught] == ["numba found no writable cache directory"]
