@@ -234,14 +234,16 @@ def test_without_a_cache_directory_the_kernels_compile_in_memory_with_one_warnin
 
     from depthrefine.methods.thesis import _jit
 
+    import types
+
     real = _jit.numba.njit
 
-    def njit(**options):
+    def njit(*args, **options):
         if options.get("cache"):
             raise RuntimeError("cannot cache function: no locator available")
-        return real(**options)
+        return real(*args, **options)
 
-    monkeypatch.setattr(_jit.numba, "njit", njit)
+    monkeypatch.setattr(_jit, "numba", types.SimpleNamespace(njit=njit))   # numba itself untouched
     monkeypatch.setattr(_jit, "_warned_no_cache", False)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
