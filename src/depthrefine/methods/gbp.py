@@ -515,13 +515,14 @@ def _reduce(x: np.ndarray, shape: tuple[int, int], box: float) -> np.ndarray:
     return point + box * (_resize(x, shape, cv2.INTER_AREA) - point)
 
 
-def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_sigma: float,
+def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_sigma: float, jump: np.ndarray,
                      progress: Progress | None = None, box: float = 1.0) -> np.ndarray:
     """Steps 1-3: back-projected, edge-aware detail blended with the flat-area solve.
 
     ``depth`` is float32 with NaN for invalid pixels (at least one valid);
     ``guide`` is the (H, W, 3) uint8 color image and ``guide_sigma`` the
     floor of the solves' color sensitivity (from the guide's noise, step 1);
+    ``jump`` the input's :func:`_near_jump` map (where the start is clipped);
     ``box`` the input's footprint share
     (:func:`footprint_share`). Returns (H, W) float32, clipped to the valid
     range of ``depth``.
@@ -539,7 +540,7 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_s
     sigma_levels = 255.0 * sigma / span
 
     lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2) * (1.0 + (p.point_lambda - 1.0) * (1.0 - box))
-    x = _clamped_bicubic(filled, (H, W), _near_jump(depth, p))
+    x = _clamped_bicubic(filled, (H, W), jump)
     for k in range(p.iterations):
         # geometric schedule lambda_first -> lambda_last over the rounds
         ratio = p.lambda_first * (p.lambda_last / p.lambda_first) ** (k / max(1, p.iterations - 1))
@@ -608,7 +609,8 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     hc, wc = small.shape[0] * 2, small.shape[1] * 2
     guide_lr = np.ascontiguousarray(_resize(guide, (h, w), cv2.INTER_AREA)[:hc, :wc])
     # on the guide reduced to the input's grid the finest band is mostly fine texture, not noise: its own factor
-    g = _guided_estimate(small, guide_lr, p, p.trust_guide_noise * estimate_guide_noise(guide_lr))
+    g = _guided_estimate(small, guide_lr, p, p.trust_guide_noise * estimate_guide_noise(guide_lr),
+                         _near_jump(small, p))
     b = _resize(_resize(g, small.shape, cv2.INTER_AREA), (hc, wc), cv2.INTER_CUBIC)
     valid = np.isfinite(depth[:hc, :wc])
     y = np.where(valid, depth[:hc, :wc], b)
@@ -695,7 +697,8 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     depth = as_depth(depth_lr)
     (h, w), (H, W) = depth.shape, guide.shape[:2]
     box = footprint_share(depth, p)
-    result = _guided_estimate(depth, guide, p, p.guide_noise * estimate_guide_noise(guide), progress, box)
+    jump = _near_jump(depth, p)  # where the input shows a depth jump: the start and the fallback are clipped there
+    result = _guided_estimate(depth, guide, p, p.guide_noise * estimate_guide_noise(guide), jump, progress, box)
     if p.trust:
         trust = guide_trust(depth, guide, p)
         if p.trust_floor > 0:
@@ -708,7 +711,7 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
         reduced = _reduce(result, (h, w), box)
         share = _noise_share(max(0.0, _noise_levels(filled, valid) - _NOISE_FLOOR), p)
         reduced = np.where(valid, reduced + (1.0 - share) * (filled - reduced), reduced).astype(np.float32)
-        base = _clamped_bicubic(reduced, (H, W), _near_jump(depth, p))
+        base = _clamped_bicubic(reduced, (H, W), jump)
         # result <- base + trust * (result - base), in place
         result -= base
         result *= trust
