@@ -232,22 +232,22 @@ def test_kmeans_rejects_features_that_are_not_finite():
 def test_without_a_cache_directory_the_kernels_compile_in_memory_with_one_warning(monkeypatch):
     import warnings
 
-    from depthrefine.methods.thesis import _jit
-
     import types
 
-    real = _jit.numba.njit
+    from depthrefine import _numba
+
+    real = _numba.numba.njit
 
     def njit(*args, **options):
         if options.get("cache"):
             raise RuntimeError("cannot cache function: no locator available")
         return real(*args, **options)
 
-    monkeypatch.setattr(_jit, "numba", types.SimpleNamespace(njit=njit))   # numba itself untouched
-    monkeypatch.setattr(_jit, "_warned_no_cache", False)
+    monkeypatch.setattr(_numba, "numba", types.SimpleNamespace(njit=njit))   # numba itself untouched
+    monkeypatch.setattr(_numba, "_warned_no_cache", False)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        double = _jit._jit(lambda x: 2 * x)
-        triple = _jit._jit(lambda x: 3 * x)
+        double = _numba.njit(lambda x: 2 * x)
+        triple = _numba.njit(parallel=True)(lambda x: 3 * x)
     assert (double(4), triple(4)) == (8, 12)
     assert [str(w.message).split(":")[0] for w in caught] == ["numba found no writable cache directory"]

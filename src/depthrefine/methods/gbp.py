@@ -23,12 +23,15 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    the residual ``y - D(x)`` (``D``: the mean over each pixel's footprint,
    the integration a ToF pixel does; for a point-sampled input the value at
    each pixel's centre, with ``point_lambda`` times the smoothing to fill
-   the gaps between the samples), then smooth with OpenCV-contrib's fast
-   global smoother (weighted least squares, Min et al. 2014) guided by the
-   color image, with a strength that grows with ``sigma**2`` and falls
-   geometrically over the rounds (``lambda_first`` to ``lambda_last``: early
-   rounds place the edges, late ones keep the detail); clip to the
-   input's range. The residual is zero at invalid input pixels, so they never
+   the gaps between the samples), then smooth with the fast global
+   smoother (weighted least squares, Min et al. 2014; :mod:`._wls`, equal
+   to OpenCV-contrib's filter for color weights) whose weights between
+   neighbours fall with their color difference and with the current
+   estimate's own gradient (``gradient_levels``: where the back-projection
+   put a depth jump the guide does not show, the solve does not blur it),
+   with a strength that grows with ``sigma**2`` and falls geometrically
+   over the rounds (``lambda_first`` to ``lambda_last``: early rounds place
+   the edges, late ones keep the detail); clip to the input's range. The residual is zero at invalid input pixels, so they never
    pull the result.
 3. **Flat areas.** Where the input shows no depth edge above the noise (its
    3x3 range is below ``edge_low * sigma``), a much stronger smoother of the
@@ -61,8 +64,8 @@ valid range and is deterministic (bit-identical for the same input).
 
 Parameters were chosen on the benchmark's tuning scenes (Park's Dolls and
 Laundry, four scenes of the 30-image Middlebury set; ``docs/bench.md``), with
-three exceptions said on their fields: ``lambda_lr`` was lowered after seeing
-the ``lu`` scenes, ``hole_margin`` was chosen on the real Kinect capture, and
+two exceptions said on their fields: ``hole_margin`` was chosen on the real
+Kinect capture, and
 ``point_lambda`` (which no benchmark input uses: all hold footprint means) on
 generated point-sampled scenes.
 
@@ -118,11 +121,12 @@ class GbpParams:
         (10 rounds); every cell improved with 6 -> 0.35.
     lambda_lr : float
         Smoothness of the detail solve on a noise-free input, per squared
-        low-resolution pixel (0.03). On the clean tuning scenes 0.03 to 0.12
-        scored within 4 % (0.12 best); 0.03 was chosen after seeing the
-        ``lu`` scenes (x4 2.20 against 2.52 with 0.12, bicubic 2.43), so
-        ``lu`` is not a clean hold-out for this value (``docs/bench.md``).
-        Stronger smoothing rounds the depth edges.
+        low-resolution pixel (0.06). With ``gradient_levels`` 96 the tuning
+        mean was 2.5896 / 2.5854 for 0.045 / 0.06, and 2.6039 for 0.1 (with
+        128 levels: 2.5983 / 2.5860 / 2.6039 for 0.03 / 0.06 / 0.1). Stronger
+        smoothing rounds the depth edges. (Before ``gradient_levels`` this
+        was 0.03, chosen after seeing the ``lu`` scenes; 0.06 is chosen on
+        the tuning scenes alone.)
     sigma_color : float
         Color sensitivity of the detail solve (4). In the first prototype, 8
         lost detail at every scale (tuning mean 3.98 against 3.18); 2 was
@@ -130,9 +134,9 @@ class GbpParams:
     noise_ref : float
         The noise (8-bit levels of the depth range) at which the detail
         solve's smoothing doubles; it grows with ``(sigma / noise_ref)**2``,
-        the ratio of noise to data weight of a least-squares fit (1). With
-        ``lambda_lr = 0.03`` this keeps the smoothing of Park's noisy inputs
-        (sigma about 6.5 levels) where the tuning put it (0.12 and 2).
+        the ratio of noise to data weight of a least-squares fit (1): Park's
+        noisy inputs (sigma about 6.5 levels) are smoothed about 40 times
+        as strongly as a noise-free input.
     flat_lambda_lr : float
         Smoothness of the flat-area solve, ``lambda = flat_lambda_lr * s``
         (32). Growing with ``s`` rather than ``s**2`` kept x16 from
@@ -229,12 +233,26 @@ class GbpParams:
         the color segments. Chosen on :func:`~depthrefine.bench.synthetic.make_scene`
         scenes (x4 and x8, color noise 6, with and without depth noise): mean
         RMSE 63 / 17 / 10.1 / 10.6 mm for 1 / 3 / 10 / 30.
+    gradient_levels : float
+        The detail solve's weight between two neighbours is their color
+        weight times ``exp(-|dx| / t)``, ``dx`` the current estimate's
+        difference and ``t`` this many levels of the input's depth range per
+        low-resolution pixel (96; ``t = gradient_levels * range / 255 / s``,
+        since a jump the back-projection places spreads over about ``s``
+        color pixels): where the input shows a depth jump the guide does not
+        (a color edge a few pixels off, a jump between two like colors), the
+        solve keeps it instead of blurring it. 0 turns it off. Tuning mean
+        (with ``lambda_lr`` 0.06) 2.6034 / 2.5854 / 2.5860 / 2.5925 for 64 /
+        96 / 128 / 192 levels; 2.6322 without (and ``lambda_lr`` 0.03, the
+        best value then); the probe of issue 9 found the depth's gradients
+        worth 4 % too. Smaller values follow the input's own edges more
+        (``lu`` x4 1.93 with 64, 2.03 with 96, 2.09 with 128).
     """
 
     iterations: int = 8
     lambda_first: float = 6.0
     lambda_last: float = 0.35
-    lambda_lr: float = 0.03
+    lambda_lr: float = 0.06
     sigma_color: float = 4.0
     noise_ref: float = 1.0
     flat_lambda_lr: float = 32.0
@@ -255,6 +273,7 @@ class GbpParams:
     mixed_low: float = 0.02
     mixed_high: float = 0.08
     point_lambda: float = 10.0
+    gradient_levels: float = 96.0
 
     def __post_init__(self) -> None:
         check_int("iterations", self.iterations, minimum=1)
@@ -265,7 +284,7 @@ class GbpParams:
                      "flat_noise", "lambda_first", "lambda_last", "point_lambda"):
             check_number(name, getattr(self, name), positive=True)
         for name in ("edge_low", "trust_prior", "jump_levels", "jump_noise", "guide_noise", "trust_guide_noise",
-                     "mixed_low"):
+                     "mixed_low", "gradient_levels"):
             check_number(name, getattr(self, name), nonnegative=True)
         if not 0 <= check_number("trust_floor", self.trust_floor) < 1:
             raise ValueError(f"trust_floor must be in [0, 1); got {self.trust_floor}.")
@@ -529,7 +548,8 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_s
     """
     import cv2
 
-    fgs = cv2.ximgproc.fastGlobalSmootherFilter
+    from . import _wls
+
     valid = np.isfinite(depth)
     filled = fill_invalid_nearest(depth)
     lo, hi = float(filled.min()), float(filled.max())
@@ -540,6 +560,9 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_s
     sigma_levels = 255.0 * sigma / span
 
     lam = p.lambda_lr * s * s * (1.0 + (sigma_levels / p.noise_ref) ** 2) * (1.0 + (p.point_lambda - 1.0) * (1.0 - box))
+    color_x, color_y = _wls.color_weights(guide, max(p.sigma_color, guide_sigma))
+    # the depth's own gradients, per low-resolution pixel in levels of the range (a jump spreads over s pixels)
+    gradient_sigma = p.gradient_levels * span / 255.0 / s
     x = _clamped_bicubic(filled, (H, W), jump)
     for k in range(p.iterations):
         # geometric schedule lambda_first -> lambda_last over the rounds
@@ -547,13 +570,18 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_s
         residual = filled - _reduce(x, (h, w), box)
         residual[~valid] = 0.0
         x += _resize(residual, (H, W), cv2.INTER_CUBIC)
-        x = fgs(guide, x, lam * ratio, max(p.sigma_color, guide_sigma))
+        if p.gradient_levels > 0:
+            weight_x, weight_y = _wls.depth_weights(x, gradient_sigma, color_x, color_y)
+        else:
+            weight_x, weight_y = color_x, color_y
+        x = _wls.smooth(x, weight_x, weight_y, lam * ratio)
         np.clip(x, lo, hi, out=x)
         if progress is not None:
             progress(k + 1, p.iterations + 1)
 
-    flat = fgs(guide, _resize(filled, (H, W), cv2.INTER_LINEAR), p.flat_lambda_lr * s,
-               max(p.flat_sigma_color, guide_sigma))
+    if p.flat_sigma_color != p.sigma_color:
+        color_x, color_y = _wls.color_weights(guide, max(p.flat_sigma_color, guide_sigma))
+    flat = _wls.smooth(_resize(filled, (H, W), cv2.INTER_LINEAR), color_x, color_y, p.flat_lambda_lr * s)
     kernel = np.ones((3, 3), np.uint8)
     local_range = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel)
     edge = np.clip((local_range - p.edge_low * sigma) / (p.edge_width * sigma + 1e-6 * span), 0.0, 1.0)

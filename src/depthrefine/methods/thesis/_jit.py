@@ -14,28 +14,9 @@ in the order ``np.bincount`` adds).
 
 from __future__ import annotations
 
-import warnings
-
-import numba
 import numpy as np
 
-
-#: Whether the no-cache warning was given (once per process, not once per kernel).
-_warned_no_cache = False
-
-
-def _jit(func):
-    """``numba.njit(cache=True, nogil=True)``; without a writable cache directory, compiled in memory."""
-    global _warned_no_cache
-    try:
-        return numba.njit(cache=True, nogil=True)(func)
-    except RuntimeError:  # numba found no writable cache directory (package and user cache dir)
-        if not _warned_no_cache:
-            _warned_no_cache = True
-            warnings.warn("numba found no writable cache directory: the thesis method's kernels are compiled "
-                          "in every new process (seconds); set NUMBA_CACHE_DIR to a writable directory.",
-                          RuntimeWarning, stacklevel=2)
-        return numba.njit(nogil=True)(func)
+from ..._numba import njit as _jit
 
 
 # ----------------------------------------------------------------------------
