@@ -1,11 +1,13 @@
 """How gbp's compiled solver runs: from many threads at once, in a forked child, on Dask threads, without numba.
 
-numba's ``workqueue`` threading layer (the one numba uses where neither TBB
-nor OpenMP is available) aborts the whole process when two Python threads
-launch parallel kernels at once, and GNU OpenMP kills a child forked after
-the parent used it. The threaded cases therefore run in a fresh interpreter
-per threading layer; the images are above the size where the solver starts
-threads (``_wls._PARALLEL_PIXELS``).
+The solver splits its work over plain Python threads
+(``depthrefine._numba.run_split``), not numba's ``parallel=True`` pool,
+whose ``workqueue`` layer aborts the whole process when two Python threads
+launch parallel kernels at once, and whose GNU OpenMP layer kills a child
+forked after the parent used it. These cases guard against a return of
+either: each runs in a fresh interpreter per numba threading layer; the
+images are above the size where the solver starts threads
+(``_wls._PARALLEL_PIXELS``).
 """
 
 from __future__ import annotations

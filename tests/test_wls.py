@@ -173,8 +173,8 @@ def test_weight_functions_check_their_shapes():
         _wls.depth_weights(np.zeros((5, 6), np.float32), 2.0, wx, wy[:, :5])
 
 
-def test_a_thread_that_finds_the_pool_busy_solves_serially_with_the_same_bits():
-    """While another thread holds numba's pool, a call runs the same blocks in its own thread: the same bits."""
+def test_the_split_over_threads_gives_the_same_bits_for_any_thread_count(monkeypatch):
+    """The rows (columns) are cut into one run of blocks per thread: 1, 2, 3 or 7 threads give the same bits."""
     from depthrefine import _numba
 
     guide, src = _scene(8, (300, 260))   # above the size where threads start
@@ -182,11 +182,32 @@ def test_a_thread_that_finds_the_pool_busy_solves_serially_with_the_same_bits():
 
     def run():
         wx, wy = _wls.color_weights(guide, 4.0)
-        return _wls.smooth(src, *_wls.depth_weights(src, 3.0, wx, wy), 25.0)
+        return _wls.smooth(src, *_wls.depth_weights(src, 3.0, wx, wy), 25.0).tobytes()
 
-    with _numba.parallel_turn() as mine:
-        assert mine
-        with _numba.parallel_turn() as other:
-            assert not other
-        serial = run()                   # the pool is taken (by this very thread): the serial kernels
-    assert run().tobytes() == serial.tobytes()
+    results = set()
+    for count in (1, 2, 3, 7):
+        monkeypatch.setattr(_numba, "threads", lambda count=count: count)
+        results.add(run())
+    assert len(results) == 1
+
+
+def test_run_split_covers_the_range_once_and_raises_a_kernel_error():
+    from depthrefine import _numba
+
+    seen = np.zeros(101, np.int64)
+
+    def kernel(out, k0, k1):
+        out[k0:k1] += 1
+
+    _numba.run_split(kernel, 101, seen)
+    assert (seen == 1).all()
+    _numba.run_split(kernel, 101, seen, parallel=False)
+    assert (seen == 2).all()
+
+    def failing(k0, k1):
+        if k0 > 0:
+            raise ValueError("part failed")
+
+    if _numba.threads() > 1:
+        with pytest.raises(ValueError, match="part failed"):
+            _numba.run_split(failing, 10)

@@ -25,10 +25,11 @@ Each row (column) is solved on its own and in the same order of operations
 whatever the thread count, so the result is bit-identical on any number of
 cores or threads (OpenCV's filter splits its rows into per-thread stripes
 whose tails take a scalar path, which changed the last bits with the core
-count). numba's thread pool is used by one calling thread at a time and
-never in a forked child (:func:`depthrefine._numba.parallel_turn`); other
-threads, e.g. the frames of ``depthrefine.batch`` on Dask threads, solve
-the same blocks serially in their own thread, with the same bits.
+count). Large images are cut into contiguous runs of blocks of rows
+(columns), one per thread, by :func:`depthrefine._numba.run_split` (plain
+Python threads; no numba ``parallel=True`` pool), so any number of threads
+may call the solver at once, e.g. the frames of ``depthrefine.batch`` on
+Dask threads, and a forked child works too, with the same bits.
 
 Imported only when ``gbp`` runs (never at ``import depthrefine``): importing
 this module imports numba (``ModuleNotFoundError`` without it; the command
@@ -43,10 +44,9 @@ from __future__ import annotations
 
 import functools
 
-import numba
 import numpy as np
 
-from .._numba import njit, parallel_turn
+from .._numba import njit, run_split
 from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "smooth"]
@@ -108,21 +108,11 @@ def _sweep_columns(u, w, lam, j0, j1):
             u[i, j0 + k] = z + ratio[i, k] * (u[i + 1, j0 + k] - z)
 
 
-@njit(parallel=True)
-def _solve_columns(u, w, lam):
-    """:func:`_sweep_columns` over all columns of ``u``, blocks of columns in parallel."""
-    cols = u.shape[1]
-    blocks = (cols + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
-        _sweep_columns(u, w, lam, b * _BLOCK, min(cols, (b + 1) * _BLOCK))
-
-
 @njit
-def _solve_columns_serial(u, w, lam):
-    """:func:`_solve_columns` in the calling thread: the same blocks, one after the other (the same bits)."""
+def _solve_columns(u, w, lam, b0, b1):
+    """:func:`_sweep_columns` over the blocks ``b0:b1`` of ``_BLOCK`` columns of ``u``, one after the other."""
     cols = u.shape[1]
-    blocks = (cols + _BLOCK - 1) // _BLOCK
-    for b in range(blocks):
+    for b in range(b0, b1):
         _sweep_columns(u, w, lam, b * _BLOCK, min(cols, (b + 1) * _BLOCK))
 
 
@@ -143,40 +133,17 @@ def _sweep_rows(u, w, lam, i0, i1):
             u[i0 + k, j] = tile[j, k]
 
 
-@njit(parallel=True)
-def _solve_rows(u, w, lam):
-    """:func:`_sweep_rows` over all rows of ``u``, blocks of rows in parallel."""
-    rows = u.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
-        _sweep_rows(u, w, lam, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
-
-
 @njit
-def _solve_rows_serial(u, w, lam):
-    """:func:`_solve_rows` in the calling thread: the same blocks, one after the other (the same bits)."""
+def _solve_rows(u, w, lam, b0, b1):
+    """:func:`_sweep_rows` over the blocks ``b0:b1`` of ``_BLOCK`` rows of ``u``, one after the other."""
     rows = u.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in range(blocks):
+    for b in range(b0, b1):
         _sweep_rows(u, w, lam, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
 
 
-@njit(parallel=True)
-def _color_weights(guide, lut, wx, wy):
-    """:func:`_color_weight_rows` over blocks of rows in parallel."""
-    rows = guide.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
-        _color_weight_rows(guide, lut, wx, wy, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
-
-
-@njit(parallel=True)
-def _depth_weights(x, inv_sigma, wx, wy, out_x, out_y):
-    """:func:`_depth_weight_rows` over blocks of rows in parallel."""
-    rows = x.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
-        _depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
+def _blocks(n: int) -> int:
+    """The number of blocks of ``_BLOCK`` rows (columns) in ``n``."""
+    return (n + _BLOCK - 1) // _BLOCK
 
 
 def _parallel(shape: tuple[int, ...]) -> bool:
@@ -249,11 +216,7 @@ def color_weights(guide: np.ndarray, sigma_color: float) -> tuple[np.ndarray, np
     lut = _color_lut(guide.shape[2], sigma_color)
     wx = np.empty(guide.shape[:2], np.float32)
     wy = np.empty(guide.shape[:2], np.float32)
-    with parallel_turn(_parallel(guide.shape)) as parallel:
-        if parallel:
-            _color_weights(guide, lut, wx, wy)
-        else:
-            _color_weight_rows(guide, lut, wx, wy, 0, guide.shape[0])
+    run_split(_color_weight_rows, guide.shape[0], guide, lut, wx, wy, parallel=_parallel(guide.shape))
     return wx, wy
 
 
@@ -266,11 +229,8 @@ def depth_weights(x: np.ndarray, sigma: float, wx: np.ndarray, wy: np.ndarray) -
     sigma = check_number("sigma", sigma, positive=True)
     out_x = np.empty_like(wx)
     out_y = np.empty_like(wy)
-    with parallel_turn(_parallel(x.shape)) as parallel:
-        if parallel:
-            _depth_weights(x, np.float32(1.0 / sigma), wx, wy, out_x, out_y)
-        else:
-            _depth_weight_rows(x, np.float32(1.0 / sigma), wx, wy, out_x, out_y, 0, x.shape[0])
+    run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
+              parallel=_parallel(x.shape))
     return out_x, out_y
 
 
@@ -346,13 +306,9 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     if not np.isfinite(u).all():
         raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
     lam32 = np.float32(min(lam, MAX_COUPLING))
-    with parallel_turn(_parallel(u.shape)) as parallel:
-        for _ in range(iterations):
-            if parallel:
-                _solve_rows(u, wx, lam32)
-                _solve_columns(u, wy, lam32)
-            else:
-                _solve_rows_serial(u, wx, lam32)
-                _solve_columns_serial(u, wy, lam32)
-            lam32 = np.float32(lam32 * np.float32(attenuation))
+    parallel = _parallel(u.shape)
+    for _ in range(iterations):
+        run_split(_solve_rows, _blocks(u.shape[0]), u, wx, lam32, parallel=parallel)
+        run_split(_solve_columns, _blocks(u.shape[1]), u, wy, lam32, parallel=parallel)
+        lam32 = np.float32(lam32 * np.float32(attenuation))
     return u
