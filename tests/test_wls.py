@@ -92,3 +92,122 @@ def test_small_images_solved_in_the_calling_thread_give_the_same_bits(monkeypatc
     monkeypatch.setattr(_wls, "_PARALLEL_PIXELS", 10**12)
     assert not _wls._parallel(src.shape)
     assert run().tobytes() == threaded.tobytes()
+
+
+@pytest.mark.parametrize("lam", [1e3, 1e8, 1e20, 1e30, 1e38, np.inf])
+def test_large_lambdas_keep_a_constant_and_a_separated_step_exact(lam):
+    """No cancellation in the elimination: huge couplings give no NaN/inf and tie or separate exactly."""
+    shape = (40, 300)
+    ones = np.ones(shape, np.float32)
+    const = np.full(shape, 7.25, np.float32)
+    np.testing.assert_array_equal(_wls.smooth(const, ones, ones, lam), const)
+    step = np.zeros(shape, np.float32)
+    step[:, 150:] = 50.3
+    wx = ones.copy()
+    wx[:, 149] = 0.0                       # no link across the step
+    np.testing.assert_array_equal(_wls.smooth(step, wx, ones, lam), step)
+    _, src = _scene(5, shape)
+    out = _wls.smooth(src, ones, ones, lam)
+    assert np.isfinite(out).all() and src.min() <= out.min() and out.max() <= src.max()
+
+
+@pytest.mark.parametrize("lam", [0.5, 30.0, 1e4, 1e6, 1e9])
+def test_one_row_is_the_exact_tridiagonal_solve(lam):
+    """One row, one iteration: the float64 banded solve of ``(I + lam * L_w) v = f``, to float32 precision."""
+    linalg = pytest.importorskip("scipy.linalg")
+    rng = np.random.default_rng(6)
+    n = 500
+    f = (rng.normal(0, 5, n) + np.linspace(0, 40, n)).astype(np.float32)
+    w = rng.uniform(0.0, 1.0, n).astype(np.float32)
+    w[rng.random(n) < 0.05] = 0.0
+    w[-1] = 0.0
+    a = lam * w[:-1].astype(np.float64)                     # coupling of i and i + 1
+    band = np.zeros((3, n))
+    band[0, 1:] = -a
+    band[2, :-1] = -a
+    band[1] = 1.0
+    band[1, :-1] += a
+    band[1, 1:] += a
+    exact = linalg.solve_banded((1, 1), band, f.astype(np.float64))
+    ours = _wls.smooth(f[None], w[None], np.zeros((1, n), np.float32), lam, iterations=1)[0]
+    assert np.abs(ours - exact).max() < 1e-5 * np.abs(f).max()
+
+
+def _bad(**changes):
+    src = np.ones((5, 6), np.float32)
+    args = dict(src=src, wx=np.ones_like(src), wy=np.ones_like(src), lam=10.0, iterations=3, attenuation=0.25)
+    args.update(changes)
+    return args
+
+
+@pytest.mark.parametrize("changes, name", [
+    (dict(lam=float("nan")), "lam"), (dict(lam=-1.0), "lam"), (dict(iterations=0), "iterations"),
+    (dict(attenuation=-0.5), "attenuation"), (dict(attenuation=float("nan")), "attenuation"),
+    (dict(src=np.ones((5, 6, 2), np.float32)), "src"), (dict(src=np.ones(5, np.float32)), "src"),
+    (dict(wx=np.ones((5, 7), np.float32)), "wx"), (dict(wy=np.ones((6, 5), np.float32)), "wy"),
+    (dict(wx=np.full((5, 6), -1.0, np.float32)), "wx"), (dict(wy=np.full((5, 6), np.nan, np.float32)), "wy"),
+    (dict(src=np.full((5, 6), np.nan, np.float32)), "src"), (dict(src=np.full((5, 6), np.inf, np.float32)), "src"),
+])
+def test_bad_arguments_raise_a_value_error_naming_them(changes, name):
+    args = _bad(**changes)
+    with pytest.raises(ValueError, match=name):
+        _wls.smooth(args.pop("src"), args.pop("wx"), args.pop("wy"), args.pop("lam"), **args)
+
+
+def test_an_infinite_lambda_or_weight_is_capped_not_nan():
+    _, src = _scene(7, (20, 30))
+    ones = np.ones(src.shape, np.float32)
+    capped = _wls.smooth(src, ones, ones, _wls.MAX_COUPLING)
+    np.testing.assert_array_equal(_wls.smooth(src, ones, ones, np.inf), capped)
+    np.testing.assert_array_equal(_wls.smooth(src, np.full_like(ones, np.inf), np.full_like(ones, np.inf), 1.0), capped)
+    np.testing.assert_array_equal(_wls.smooth(src, ones, ones, 0.0), src)   # no smoothing
+
+
+def test_weight_functions_check_their_shapes():
+    with pytest.raises(ValueError, match="guide"):
+        _wls.color_weights(np.zeros((2, 3, 4, 5), np.uint8), 4.0)
+    wx, wy = _wls.color_weights(np.zeros((5, 6, 3), np.uint8), 4.0)
+    with pytest.raises(ValueError, match="x must be a 2-D"):
+        _wls.depth_weights(np.zeros((5, 6, 1), np.float32), 2.0, wx, wy)
+    with pytest.raises(ValueError, match="wy"):
+        _wls.depth_weights(np.zeros((5, 6), np.float32), 2.0, wx, wy[:, :5])
+
+
+def test_the_split_over_threads_gives_the_same_bits_for_any_thread_count(monkeypatch):
+    """The rows (columns) are cut into one run of blocks per thread: 1, 2, 3 or 7 threads give the same bits."""
+    from depthrefine import _numba
+
+    guide, src = _scene(8, (300, 260))   # above the size where threads start
+    assert _wls._parallel(src.shape)
+
+    def run():
+        wx, wy = _wls.color_weights(guide, 4.0)
+        return _wls.smooth(src, *_wls.depth_weights(src, 3.0, wx, wy), 25.0).tobytes()
+
+    results = set()
+    for count in (1, 2, 3, 7):
+        monkeypatch.setattr(_numba, "threads", lambda count=count: count)
+        results.add(run())
+    assert len(results) == 1
+
+
+def test_run_split_covers_the_range_once_and_raises_a_kernel_error():
+    from depthrefine import _numba
+
+    seen = np.zeros(101, np.int64)
+
+    def kernel(out, k0, k1):
+        out[k0:k1] += 1
+
+    _numba.run_split(kernel, 101, seen)
+    assert (seen == 1).all()
+    _numba.run_split(kernel, 101, seen, parallel=False)
+    assert (seen == 2).all()
+
+    def failing(k0, k1):
+        if k0 > 0:
+            raise ValueError("part failed")
+
+    if _numba.threads() > 1:
+        with pytest.raises(ValueError, match="part failed"):
+            _numba.run_split(failing, 10)

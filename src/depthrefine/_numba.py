@@ -1,4 +1,15 @@
-"""numba's ``njit`` with an on-disk cache, falling back to in-memory compilation (one warning per process).
+"""numba's ``njit`` with an on-disk cache, and a split of a kernel's work over threads.
+
+:func:`njit` falls back to in-memory compilation (one warning per process)
+when numba finds no writable cache directory. :func:`run_split` runs a
+compiled kernel over contiguous parts of its rows or columns in plain
+Python threads (the kernels release the GIL) rather than numba's
+``parallel=True`` pool: numba's pool is not safe to enter from two Python
+threads at once (its ``workqueue`` layer aborts the process: "Terminating:
+Nested parallel kernel launch detected") nor from a process forked after
+the pool started (GNU OpenMP kills the child: "fork() called from a process
+already using GNU OpenMP"), and OpenMP's spinning threads slowed ``gbp``
+two-fold on a loaded machine.
 
 Imported only by the compiled-kernel modules (``methods/thesis/_jit.py``,
 ``methods/_wls.py``) when a method that needs them runs: importing this
@@ -7,11 +18,15 @@ module imports numba.
 
 from __future__ import annotations
 
+import os
+import threading
 import warnings
+from concurrent.futures import ThreadPoolExecutor
+from typing import Callable
 
 import numba
 
-__all__ = ["njit"]
+__all__ = ["njit", "run_split", "threads"]
 
 #: Whether the no-cache warning was given (once per process, not once per kernel).
 _warned_no_cache = False
@@ -36,3 +51,52 @@ def njit(func=None, /, **options):
                               "directory.", RuntimeWarning, stacklevel=3)
             return numba.njit(nogil=True, **options)(f)
     return wrap if func is None else wrap(func)
+
+
+#: The worker threads of :func:`run_split`, per process (a forked child starts its own).
+_pool: ThreadPoolExecutor | None = None
+_pool_pid: int | None = None
+_pool_lock = threading.Lock()
+
+
+def threads() -> int:
+    """How many threads :func:`run_split` uses: ``NUMBA_NUM_THREADS`` (default: the number of CPUs)."""
+    return max(1, int(numba.config.NUMBA_NUM_THREADS))
+
+
+def _workers(count: int) -> ThreadPoolExecutor:
+    global _pool, _pool_pid
+    with _pool_lock:
+        if _pool is None or _pool_pid != os.getpid():
+            _pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="depthrefine-kernel")
+            _pool_pid = os.getpid()
+        return _pool
+
+
+def run_split(kernel: Callable[..., None], n: int, *args, parallel: bool = True) -> None:
+    """``kernel(*args, k0, k1)`` over ``range(n)`` cut into contiguous parts, one per thread.
+
+    ``kernel`` is a compiled kernel (``nogil``) that works on the part
+    ``k0:k1`` of its arrays in place, independently of the other parts, so
+    the result has the same bits however ``n`` is cut. The calling thread
+    runs the first part; the others run on a small pool of worker threads
+    (plain Python threads, not numba's ``parallel=True`` pool: numba's pool
+    cannot be entered by two Python threads at once under its ``workqueue``
+    layer, and GNU OpenMP's spinning threads, its default layer here,
+    slowed ``gbp`` two-fold on a loaded machine). Any number of threads may
+    call this at once; a forked child starts its own workers. With
+    ``parallel=False`` (or one thread, or ``n < 2``) the whole range runs
+    in the calling thread.
+    """
+    parts = min(n, threads()) if parallel else 1
+    if parts <= 1:
+        kernel(*args, 0, n)
+        return
+    bounds = [n * k // parts for k in range(parts + 1)]
+    pool = _workers(parts - 1)
+    futures = [pool.submit(kernel, *args, bounds[k], bounds[k + 1]) for k in range(1, parts)]
+    try:
+        kernel(*args, bounds[0], bounds[1])
+    finally:
+        for future in futures:
+            future.result()

@@ -12,13 +12,29 @@ can also weight by the current depth's own gradients and vary the smoothing
 strength per pixel. With the color weights alone the result equals OpenCV's
 up to float rounding (tests/test_wls.py).
 
+The Thomas algorithm (:func:`_sweep_columns`) is written without the
+subtraction of OpenCV's pivot, which cancels when ``lambda * w`` is large
+(in float32 a constant came back off by 1e-2 at ``lambda * w = 3e6``, by
+1e4 at ``1e7``, and at ``1e8`` the pivot was zero, a division by zero);
+here every step adds positive terms or interpolates between two values, so a
+constant stays exactly constant, a zero weight exactly separates two
+neighbours, and any ``lambda`` up to ``inf`` gives a finite result (each
+coupling ``lambda * w`` is capped at :data:`MAX_COUPLING`).
+
 Each row (column) is solved on its own and in the same order of operations
-whatever the thread count, so the result is bit-identical on any machine
-(OpenCV's filter splits its rows into per-thread stripes whose tails take a
-scalar path, which changed the last bits with the core count).
+whatever the thread count, so the result is bit-identical on any number of
+cores or threads (OpenCV's filter splits its rows into per-thread stripes
+whose tails take a scalar path, which changed the last bits with the core
+count). Large images are cut into contiguous runs of blocks of rows
+(columns), one per thread, by :func:`depthrefine._numba.run_split` (plain
+Python threads; no numba ``parallel=True`` pool), so any number of threads
+may call the solver at once, e.g. the frames of ``depthrefine.batch`` on
+Dask threads, and a forked child works too, with the same bits.
 
 Imported only when ``gbp`` runs (never at ``import depthrefine``): importing
-this module imports numba. No ``fastmath``.
+this module imports numba (``ModuleNotFoundError`` without it; the command
+line and ``depthrefine.batch`` turn it into "pip install numba"). No
+``fastmath``.
 
 Reference: D. Min, S. Choi, J. Lu, B. Ham, K. Sohn, M. N. Do, "Fast global
 image smoothing based on weighted least squares", IEEE TIP 23(12), 2014.
@@ -28,10 +44,10 @@ from __future__ import annotations
 
 import functools
 
-import numba
 import numpy as np
 
-from .._numba import njit
+from .._numba import njit, run_split
+from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "smooth"]
 
@@ -39,42 +55,64 @@ __all__ = ["color_weights", "depth_weights", "smooth"]
 _BLOCK = 64
 #: Images of fewer pixels are solved in the calling thread.
 _PARALLEL_PIXELS = 1 << 16
+#: The largest coupling ``lam * w`` of two neighbours: larger ones (and an infinite ``lam``) count as this.
+#: At it the two are already tied to float32 precision (their gap shrinks as ``1 / sqrt(lam * w)``).
+MAX_COUPLING = 1e30
 
 
-@njit
+@njit(error_model="numpy")
 def _sweep_columns(u, w, lam, j0, j1):
     """Solve ``(I + lam * L_w) v = u`` along axis 0 for columns ``j0:j1`` of ``u``, in place.
 
     ``w[i, j]`` is the weight between rows ``i`` and ``i + 1`` of column ``j``
-    (its last row is unused). Thomas algorithm, as OpenCV's vertical pass.
+    (its last row is unused); ``a_i = min(lam * w[i], MAX_COUPLING)``. Thomas
+    algorithm without subtractions of large terms: with ``e_i`` the pivot
+    ``d_i`` minus ``a_i`` (``e_0 = 1``), ``r_i = a_i / (e_i + a_i)`` and
+    ``e_{i+1} = 1 + r_i * e_i``, all positive; the forward pass keeps the
+    weighted mean ``z_i = u_i + q_i * (z_{i-1} - u_i)`` (``q_i = 1 - 1 / e_i``)
+    and the backward pass ``v_i = z_i + r_i * (v_{i+1} - z_i)``. A constant
+    stays exactly constant and a zero weight exactly separates, for any
+    ``lam``. (OpenCV's pivot ``1 + a_{i-1} + a_i - a_{i-1} * r_{i-1}`` cancels
+    when the ``a`` are large.) Every divisor is ``>= 1``, so numpy's error
+    model (no division-by-zero check, which kept the loops from vectorising)
+    changes no result.
     """
     rows = u.shape[0]
     n = j1 - j0
     ratio = np.empty((rows, n), np.float32)
+    e = np.ones(n, np.float32)
     one = np.float32(1.0)
-    for k in range(n):
-        coef = lam * w[0, j0 + k] if rows > 1 else np.float32(0.0)
-        ratio[0, k] = -coef / (one + coef)
-        u[0, j0 + k] = u[0, j0 + k] / (one + coef)
-    for i in range(1, rows):
-        last = i == rows - 1
+    cap = np.float32(MAX_COUPLING)
+    if rows > 1:
         for k in range(n):
-            prev = lam * w[i - 1, j0 + k]
-            cur = np.float32(0.0) if last else lam * w[i, j0 + k]
-            denom = (one + prev + cur) + ratio[i - 1, k] * prev
-            ratio[i, k] = -cur / denom
-            u[i, j0 + k] = (u[i, j0 + k] + u[i - 1, j0 + k] * prev) / denom
+            a = min(lam * w[0, j0 + k], cap)
+            ratio[0, k] = a / (one + a)
+    for i in range(1, rows - 1):
+        for k in range(n):
+            g = ratio[i - 1, k] * e[k]
+            ek = one + g
+            f = u[i, j0 + k]
+            u[i, j0 + k] = f + (g / ek) * (u[i - 1, j0 + k] - f)
+            a = min(lam * w[i, j0 + k], cap)
+            ratio[i, k] = a / (ek + a)
+            e[k] = ek
+    if rows > 1:
+        i = rows - 1
+        for k in range(n):
+            g = ratio[i - 1, k] * e[k]
+            f = u[i, j0 + k]
+            u[i, j0 + k] = f + (g / (one + g)) * (u[i - 1, j0 + k] - f)
     for i in range(rows - 2, -1, -1):
         for k in range(n):
-            u[i, j0 + k] = u[i, j0 + k] - ratio[i, k] * u[i + 1, j0 + k]
+            z = u[i, j0 + k]
+            u[i, j0 + k] = z + ratio[i, k] * (u[i + 1, j0 + k] - z)
 
 
-@njit(parallel=True)
-def _solve_columns(u, w, lam):
-    """:func:`_sweep_columns` over all columns of ``u``, blocks of columns in parallel."""
+@njit
+def _solve_columns(u, w, lam, b0, b1):
+    """:func:`_sweep_columns` over the blocks ``b0:b1`` of ``_BLOCK`` columns of ``u``, one after the other."""
     cols = u.shape[1]
-    blocks = (cols + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
+    for b in range(b0, b1):
         _sweep_columns(u, w, lam, b * _BLOCK, min(cols, (b + 1) * _BLOCK))
 
 
@@ -95,31 +133,17 @@ def _sweep_rows(u, w, lam, i0, i1):
             u[i0 + k, j] = tile[j, k]
 
 
-@njit(parallel=True)
-def _solve_rows(u, w, lam):
-    """:func:`_sweep_rows` over all rows of ``u``, blocks of rows in parallel."""
+@njit
+def _solve_rows(u, w, lam, b0, b1):
+    """:func:`_sweep_rows` over the blocks ``b0:b1`` of ``_BLOCK`` rows of ``u``, one after the other."""
     rows = u.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
+    for b in range(b0, b1):
         _sweep_rows(u, w, lam, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
 
 
-@njit(parallel=True)
-def _color_weights(guide, lut, wx, wy):
-    """:func:`_color_weight_rows` over blocks of rows in parallel."""
-    rows = guide.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
-        _color_weight_rows(guide, lut, wx, wy, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
-
-
-@njit(parallel=True)
-def _depth_weights(x, inv_sigma, wx, wy, out_x, out_y):
-    """:func:`_depth_weight_rows` over blocks of rows in parallel."""
-    rows = x.shape[0]
-    blocks = (rows + _BLOCK - 1) // _BLOCK
-    for b in numba.prange(blocks):
-        _depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, b * _BLOCK, min(rows, (b + 1) * _BLOCK))
+def _blocks(n: int) -> int:
+    """The number of blocks of ``_BLOCK`` rows (columns) in ``n``."""
+    return (n + _BLOCK - 1) // _BLOCK
 
 
 def _parallel(shape: tuple[int, ...]) -> bool:
@@ -182,28 +206,43 @@ def color_weights(guide: np.ndarray, sigma_color: float) -> tuple[np.ndarray, np
     Returns ``(wx, wy)``, two (H, W) float32 arrays: ``wx[i, j]`` links pixel
     ``(i, j)`` to ``(i, j + 1)``, ``wy[i, j]`` to ``(i + 1, j)`` (0 in the last
     column / row). ``|dc|`` is the Euclidean distance of the two colors.
+    An (H, W) guide is one channel.
     """
+    guide = np.asarray(guide)
+    if guide.ndim not in (2, 3):
+        raise ValueError(f"guide must be an (H, W) or (H, W, C) array; got shape {guide.shape}.")
+    sigma_color = check_number("sigma_color", sigma_color, positive=True)
     guide = np.ascontiguousarray(guide if guide.ndim == 3 else guide[:, :, None], dtype=np.uint8)
-    lut = _color_lut(guide.shape[2], float(sigma_color))
+    lut = _color_lut(guide.shape[2], sigma_color)
     wx = np.empty(guide.shape[:2], np.float32)
     wy = np.empty(guide.shape[:2], np.float32)
-    if _parallel(guide.shape):
-        _color_weights(guide, lut, wx, wy)
-    else:
-        _color_weight_rows(guide, lut, wx, wy, 0, guide.shape[0])
+    run_split(_color_weight_rows, guide.shape[0], guide, lut, wx, wy, parallel=_parallel(guide.shape))
     return wx, wy
 
 
 def depth_weights(x: np.ndarray, sigma: float, wx: np.ndarray, wy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(wx, wy)`` multiplied by ``exp(-|dx| / sigma)``, the current depth's own gradients (``sigma > 0``)."""
     x = np.ascontiguousarray(x, dtype=np.float32)
+    if x.ndim != 2:
+        raise ValueError(f"x must be a 2-D array; got shape {x.shape}.")
+    wx, wy = _weights(x.shape, wx, wy)
+    sigma = check_number("sigma", sigma, positive=True)
     out_x = np.empty_like(wx)
     out_y = np.empty_like(wy)
-    if _parallel(x.shape):
-        _depth_weights(x, np.float32(1.0 / sigma), wx, wy, out_x, out_y)
-    else:
-        _depth_weight_rows(x, np.float32(1.0 / sigma), wx, wy, out_x, out_y, 0, x.shape[0])
+    run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
+              parallel=_parallel(x.shape))
     return out_x, out_y
+
+
+def _weights(shape: tuple[int, int], wx: np.ndarray, wy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``wx``, ``wy`` as C-contiguous float32, checked to be of ``shape`` (a ``ValueError`` naming the array)."""
+    out = []
+    for name, w in (("wx", wx), ("wy", wy)):
+        w = np.ascontiguousarray(w, dtype=np.float32)
+        if w.shape != shape:
+            raise ValueError(f"{name} must have the shape of the image, {shape}; got {w.shape}.")
+        out.append(w)
+    return out[0], out[1]
 
 
 def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, iterations: int = 3,
@@ -213,18 +252,31 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     Parameters
     ----------
     src : (H, W) ndarray
-        Values to smooth (converted to float32).
+        Values to smooth (converted to float32), all finite.
     wx, wy : (H, W) float32 ndarray
         Non-negative weights between horizontal / vertical neighbours
         (:func:`color_weights`; their last column / row is not used).
     lam : float
-        Smoothing strength of the first iteration.
+        Smoothing strength of the first iteration, ``>= 0``. Each coupling
+        ``lam * w`` counts as at most :data:`MAX_COUPLING` (``1e30``), so any
+        larger ``lam``, ``inf`` included, gives the same finite result.
     iterations, attenuation : int, float
-        As OpenCV's ``num_iter`` (3) and ``lambda_attenuation`` (0.25).
+        As OpenCV's ``num_iter`` (3, ``>= 1``) and ``lambda_attenuation``
+        (0.25, ``>= 0``).
 
     Returns
     -------
     (H, W) float32 ndarray
+        Bit-identical for the same input, whatever the number of cores and
+        of threads calling at once.
+
+    Raises
+    ------
+    ValueError
+        ``src`` not 2-D or not finite (NaN or infinite values would spread
+        along their rows and columns; ``gbp`` fills holes before it smooths),
+        ``wx`` / ``wy`` of another shape, negative or NaN, ``lam`` NaN or
+        negative, ``iterations < 1``, ``attenuation`` negative or not finite.
 
     Examples
     --------
@@ -236,16 +288,27 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     True
     """
     u = np.array(src, dtype=np.float32, order="C")
-    wx = np.ascontiguousarray(wx, dtype=np.float32)
-    wy = np.ascontiguousarray(wy, dtype=np.float32)
-    lam32 = np.float32(lam)
+    if u.ndim != 2:
+        raise ValueError(f"src must be a 2-D array; got shape {u.shape}.")
+    wx, wy = _weights(u.shape, wx, wy)
+    if isinstance(lam, bool) or not isinstance(lam, (int, float, np.integer, np.floating)):
+        raise TypeError(f"lam must be a number; got {lam!r}.")
+    if not lam >= 0:
+        raise ValueError(f"lam must be >= 0; got {lam}.")
+    iterations = check_int("iterations", iterations, minimum=1)
+    attenuation = check_number("attenuation", attenuation, nonnegative=True)
+    if u.size == 0:
+        return u
+    for name, w in (("wx", wx), ("wy", wy)):
+        low = w.min()
+        if not low >= 0:
+            raise ValueError(f"{name} must be >= 0 everywhere, without NaN; got min {low}.")
+    if not np.isfinite(u).all():
+        raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
+    lam32 = np.float32(min(lam, MAX_COUPLING))
     parallel = _parallel(u.shape)
     for _ in range(iterations):
-        if parallel:
-            _solve_rows(u, wx, lam32)
-            _solve_columns(u, wy, lam32)
-        else:
-            _sweep_rows(u, wx, lam32, 0, u.shape[0])
-            _sweep_columns(u, wy, lam32, 0, u.shape[1])
+        run_split(_solve_rows, _blocks(u.shape[0]), u, wx, lam32, parallel=parallel)
+        run_split(_solve_columns, _blocks(u.shape[1]), u, wy, lam32, parallel=parallel)
         lam32 = np.float32(lam32 * np.float32(attenuation))
     return u

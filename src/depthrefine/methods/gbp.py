@@ -51,8 +51,9 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    the guided detail (the result minus the bicubic enlargement of its own
    reduction) agrees with the withheld input, in [0, 1], with a prior towards
    trust where the detail is weaker than ``trust_prior`` levels, no trust
-   away from a depth jump of the input (a curvature above the noise,
-   ``jump_levels``: a guide's edges over a smooth surface are texture) nor
+   away from a depth jump of the input (a change of its curvature above the
+   noise, ``jump_levels``: a guide's edges over a smooth surface, however
+   curved, are texture) nor
    within ``hole_margin`` pixels of a missing input pixel (none by default),
    and shares below ``trust_floor`` counted as none. First the guided result
    is clipped, wherever its input pixel is valid, to the range of the valid
@@ -62,9 +63,10 @@ of defaults serves clean and noisy inputs, 8-bit levels and millimetres.
    detail. The full-resolution result keeps that share of its guided detail
    and falls back to clipped bicubic interpolation elsewhere: of the input
    itself when it is noise-free, of the result's own (denoised) reduction
-   as the noise grows to ``flat_noise`` levels (this noise is measured with
-   a band that is blind to smooth curvature, so a curved noise-free surface
-   falls back to the input itself).
+   as the noise grows (from half a level of the depth range, over
+   ``flat_noise`` levels; this noise is measured with a band that is blind
+   to smooth curvature, so a curved noise-free surface falls back to the
+   input itself).
 
 Invalid input pixels (0, NaN, inf, negative) are filled from the nearest
 valid pixel before any interpolation, as the other methods do, and no
@@ -164,7 +166,8 @@ class GbpParams:
         ``edge_low * sigma`` (4; 2 gave 2.97, 4 gave 2.67 on the tuning mean).
     flat_noise : float
         Noise (levels of the depth range) below which the flat-area solve
-        and the denoised fallback fade out (2). On a noise-free step the
+        and the denoised fallback fade out (2; the fallback's above a floor
+        of half a level). On a noise-free step the
         flat solve spread the mixed edge pixel over the whole flat side
         (42.5 instead of 40); the tuning mean moved 2.640 / 2.639 / 2.637
         for 0.5 / 1 / 2.
@@ -226,15 +229,22 @@ class GbpParams:
         everywhere. 0.2 cost 0.6 % on the tuning mean and 5 % on the Kinect.
     jump_levels, jump_noise : float
         Guided detail is trusted only near a depth jump of the input: where
-        the absolute 4-neighbour Laplacian of the input exceeds
-        ``jump_noise * sigma + jump_levels`` levels of its depth range (3
-        and 4), ramping to full trust at twice that, within ``jump_margin``
-        input pixels (2). A smooth surface under a textured guide has no
-        such jump, so its texture is not copied (striped guide over a
-        smooth surface: RMSE 0.277 without this test, 0.167 with 2 levels,
-        equal to bicubic's 0.1628 with 3); the tuning mean moved 2.6462 /
-        2.6465 / 2.6469 for 2 / 3 / 4 levels (2.674 with ``jump_noise = 6``),
-        the real-ToF self-benchmark by less than 0.01 mm.
+        the 4-neighbour Laplacian of the input differs from its own 3x3 mean
+        by more than ``jump_noise * sigma + jump_levels`` levels of its
+        depth range (3 and 4), ramping to full trust at twice that, within
+        ``jump_margin`` input pixels (2). A smooth surface under a textured
+        guide has no such jump, so its texture is not copied (striped guide
+        over a smooth surface: RMSE 0.277 without this test, 0.167 with 2
+        levels, equal to bicubic's 0.1628 with 3; the tuning mean moved
+        2.6462 / 2.6465 / 2.6469 for 2 / 3 / 4 levels, 2.674 with
+        ``jump_noise = 6``). The Laplacian itself (the test's first form)
+        passed a small input's smooth curvature for a jump (a quadratic
+        under a checkerboard, 12 x 16 input, x4: 1.63 times bicubic's RMSE);
+        its deviation from its 3x3 mean is near zero on any smooth surface
+        (the same case: equal to bicubic; with the fourth-order noise band of
+        the fallback, tuning mean 2.4371 -> 2.4368, and
+        2.4366 / 2.4372 for 2 / 4 levels; simulated ToF test scenes 3.0377
+        -> 3.0393, real-ToF x4 / x8 19.899 / 32.739 -> 19.904 / 32.747 mm).
     jump_margin : int
         See ``jump_levels`` (2).
     guide_noise : float
@@ -583,27 +593,34 @@ def _span(filled: np.ndarray, valid: np.ndarray) -> float:
 def _noise_levels(filled: np.ndarray, valid: np.ndarray) -> float:
     """The input's noise in 8-bit levels of its own depth range (unit-free), blind to smooth curvature.
 
-    The band is the 3x3 product of second differences ``[1, -2, 1]`` along
-    rows and columns (divided by 6, Immerkaer 1996), which is zero on any
-    surface quadratic in each direction, where the diagonal Haar band of
+    The band is the 5x5 product of fourth differences ``[1, -4, 6, -4, 1]``
+    along rows and columns (divided by 70: unit noise gain), which is zero on
+    any surface cubic in each direction and nearly so on a surface resolved
+    by 9 input pixels per period (1 % of what the second differences
+    ``[1, -2, 1]`` see there), where the diagonal Haar band of
     :func:`estimate_noise` sees a curved surface's twist as noise; clipped
-    RMS as there. It decides how far the fallback is denoised (step 4).
+    RMS as there. On white noise both bands give its standard deviation (the
+    benchmark's noisy inputs measure within 3 % of each other). It decides
+    how far the fallback is denoised (step 4).
     """
     import cv2
 
-    band = cv2.filter2D(filled.astype(np.float32), -1, _SECOND_ORDER, borderType=cv2.BORDER_REFLECT)[1:-1, 1:-1]
-    inner = cv2.erode(valid.astype(np.uint8), np.ones((3, 3), np.uint8))[1:-1, 1:-1] > 0
+    band = cv2.filter2D(filled.astype(np.float32), -1, _FOURTH_ORDER, borderType=cv2.BORDER_REFLECT)[2:-2, 2:-2]
+    inner = cv2.erode(valid.astype(np.uint8), np.ones((5, 5), np.uint8))[2:-2, 2:-2] > 0
     coef = band[inner].astype(np.float64)
     if coef.size < 16:
         return 0.0
     return 255.0 * _clipped_rms(coef, np.ones(coef.shape)) / _span(filled, valid)
 
 
-#: Noise below this many levels counts as none in the fallback (float rounding, a smooth surface's 4th-order
-#: term; 8-bit rounding alone is 0.29 levels).
-_NOISE_FLOOR = 0.02
-#: Product of second differences along rows and columns, unit noise gain (``_noise_levels``).
-_SECOND_ORDER = np.array([[1, -2, 1], [-2, 4, -2], [1, -2, 1]], np.float32) / 6.0
+#: Noise below this many levels counts as none in the fallback: 8-bit rounding (0.29 levels of a 255-level range)
+#: and what is left of a smooth surface in the noise band are not noise to average away. Tuning mean (with the
+#: fourth-order band) 2.4386 / 2.4380 / 2.4368 for 0.2 / 0.3 / 0.5 (2.4406 with the second-order band and 0.2,
+#: 2.4416 with it and 0.02); larger floors gain more there (2.4336 / 2.4308 for 1 / 2) by denoising the noisy
+#: inputs less, which is the ramp's tuning (``flat_noise``), not a floor.
+_NOISE_FLOOR = 0.5
+#: Product of fourth differences along rows and columns, unit noise gain (``_noise_levels``).
+_FOURTH_ORDER = np.outer(*(np.array([1, -4, 6, -4, 1], np.float32),) * 2) / 70.0
 
 
 def _noise_share(sigma_levels: float, p: GbpParams) -> float:
@@ -713,7 +730,8 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     [0, 1], set to 0 within ``hole_margin`` pixels of a missing input pixel,
     and smoothed over the same window. It is then multiplied by the
     nearness to a depth jump of the input (``jump_levels``): a guide's
-    edges are trusted only where the input confirms a discontinuity.
+    edges are trusted only where the input confirms a discontinuity, and a
+    smooth surface, however curved, shows none.
 
     Parameters
     ----------
@@ -799,8 +817,12 @@ def _local_bounds(depth: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray
 def _near_jump(depth: np.ndarray, p: GbpParams) -> np.ndarray:
     """1 near a depth jump of the input, 0 on smooth surfaces (``jump_levels``), per input pixel.
 
+    The jump is measured as the 4-neighbour Laplacian's deviation from its
+    own 3x3 mean: a smooth surface's curvature changes slowly (a quadratic's
+    is constant), so however curved it is this stays near zero, while at a
+    jump the Laplacian flips sign from one side to the other.
     ``depth`` is (h, w) float32 with NaN for invalid pixels (at least one
-    valid); under 3 pixels on a side no curvature is measured and it is 0.
+    valid); under 3 pixels on a side nothing is measured and it is 0.
     """
     import cv2
 
@@ -810,10 +832,12 @@ def _near_jump(depth: np.ndarray, p: GbpParams) -> np.ndarray:
     valid = np.isfinite(depth)
     filled = fill_invalid_nearest(depth)
     span = _span(filled, valid)
-    curvature = np.abs(cv2.Laplacian(filled, cv2.CV_32F, ksize=1))
+    laplacian = cv2.Laplacian(filled, cv2.CV_32F, ksize=1)
     # the reflected border turns a slope into a kink: take the border from the pixels inside
-    curvature[0], curvature[-1] = curvature[1], curvature[-2]
-    curvature[:, 0], curvature[:, -1] = curvature[:, 1], curvature[:, -2]
+    laplacian[0], laplacian[-1] = laplacian[1], laplacian[-2]
+    laplacian[:, 0], laplacian[:, -1] = laplacian[:, 1], laplacian[:, -2]
+    # a curved surface's Laplacian is locally constant, a jump's is not
+    curvature = np.abs(laplacian - cv2.blur(laplacian, (3, 3), borderType=cv2.BORDER_REFLECT))
     threshold = p.jump_noise * estimate_noise(filled, valid) + p.jump_levels * span / 255.0 + 1e-6 * span
     jump = np.clip(curvature / threshold - 1.0, 0.0, 1.0).astype(np.float32)
     if p.jump_margin > 0:
