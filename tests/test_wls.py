@@ -166,6 +166,8 @@ def test_an_infinite_lambda_or_weight_is_capped_not_nan():
 def test_weight_functions_check_their_shapes():
     with pytest.raises(ValueError, match="guide"):
         _wls.color_weights(np.zeros((2, 3, 4, 5), np.uint8), 4.0)
+    with pytest.raises(ValueError, match="guide must be uint8"):
+        _wls.color_weights(np.full((5, 6, 3), 300, np.uint16), 4.0)   # a cast would give 44, not a scaled 255
     wx, wy = _wls.color_weights(np.zeros((5, 6, 3), np.uint8), 4.0)
     with pytest.raises(ValueError, match="x must be a 2-D"):
         _wls.depth_weights(np.zeros((5, 6, 1), np.float32), 2.0, wx, wy)

@@ -211,6 +211,8 @@ def color_weights(guide: np.ndarray, sigma_color: float) -> tuple[np.ndarray, np
     guide = np.asarray(guide)
     if guide.ndim not in (2, 3):
         raise ValueError(f"guide must be an (H, W) or (H, W, C) array; got shape {guide.shape}.")
+    if guide.dtype != np.uint8:  # a cast would wrap 16-bit values around 256 instead of scaling them
+        raise ValueError(f"guide must be uint8 (8-bit channels); got {guide.dtype}: scale it to 0..255 first.")
     sigma_color = check_number("sigma_color", sigma_color, positive=True)
     guide = np.ascontiguousarray(guide if guide.ndim == 3 else guide[:, :, None], dtype=np.uint8)
     lut = _color_lut(guide.shape[2], sigma_color)
