@@ -309,8 +309,8 @@ class GbpParams:
         clips run in the guide trust's check estimate too: with
         ``guide_smoothing`` and Lanczos residuals, tuning mean 2.4066 ->
         2.3952 (x4 / x8 / x16 1.533 / 2.284 / 3.402 -> 1.524 / 2.271 /
-        3.391), real-ToF self-benchmark x4 / x8 19.48 / 32.22 -> 19.18 /
-        31.87. Clipped next to holes too (2.3961), the free pixels over a
+        3.391; every tuning protocol x scale better), real-ToF
+        self-benchmark x4 / x8 19.48 / 32.22 -> 19.18 / 31.87. Clipped next to holes too (2.3961), the free pixels over a
         hole carried the clipped rim's pull into it: beside a hole near a
         jump the result moved 1.26 levels from the hole-free one, against
         0.60 without the residual clip and 0.59 with the margin
