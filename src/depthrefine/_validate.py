@@ -249,13 +249,18 @@ def check_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
     return value
 
 
-def check_number(name: str, value: Any, *, positive: bool = False, nonnegative: bool = False) -> float:
-    """``value`` as a finite float (``TypeError`` for a non-number; ``ValueError`` if out of range)."""
+def check_number(name: str, value: Any, *, positive: bool = False, nonnegative: bool = False,
+                 finite: bool = True) -> float:
+    """``value`` as a float (``TypeError`` for a non-number; ``ValueError`` if out of range).
+
+    Finite unless ``finite=False``, which lets ``inf`` (and ``-inf``, unless
+    ``positive`` or ``nonnegative``) through; NaN is always refused.
+    """
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a number; got {value!r}.")
     value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite; got {value}.")
+    if math.isnan(value) or (finite and math.isinf(value)):
+        raise ValueError(f"{name} must be {'finite' if finite else 'a number, not NaN'}; got {value}.")
     if positive and value <= 0:
         raise ValueError(f"{name} must be > 0; got {value}.")
     if nonnegative and value < 0:

@@ -293,10 +293,7 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     if u.ndim != 2:
         raise ValueError(f"src must be a 2-D array; got shape {u.shape}.")
     wx, wy = _weights(u.shape, wx, wy)
-    if isinstance(lam, bool) or not isinstance(lam, (int, float, np.integer, np.floating)):
-        raise TypeError(f"lam must be a number; got {lam!r}.")
-    if not lam >= 0:
-        raise ValueError(f"lam must be >= 0; got {lam}.")
+    lam = check_number("lam", lam, nonnegative=True, finite=False)
     iterations = check_int("iterations", iterations, minimum=1)
     attenuation = check_number("attenuation", attenuation, nonnegative=True)
     if u.size == 0:

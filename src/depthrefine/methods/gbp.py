@@ -667,7 +667,7 @@ _GUIDE_SMOOTHING_SIZE, _GUIDE_SMOOTHING_SPACE = 3, 3.0
 
 
 def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_sigma: float, jump: np.ndarray,
-                     progress: Progress | None = None, box: float = 1.0, clip_rounds: bool = False) -> np.ndarray:
+                     progress: Progress | None = None, box: float = 1.0) -> np.ndarray:
     """Steps 1-3: back-projected, edge-aware detail blended with the flat-area solve.
 
     ``depth`` is float32 with NaN for invalid pixels (at least one valid);
@@ -675,10 +675,9 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_s
     floor of the solves' color sensitivity (from the guide's noise, step 1);
     ``jump`` the input's :func:`_near_jump` map (where the start is clipped);
     ``box`` the input's footprint share
-    (:func:`footprint_share`); ``clip_rounds`` (:class:`GbpParams`): clip
-    each round's smoothed estimate, and the estimate after adding the
-    residual in every round but the last (not next to a hole), to the
-    input's local range.
+    (:func:`footprint_share`). With ``p.clip_rounds`` each round's smoothed
+    estimate, and the estimate after adding the residual in every round but
+    the last (not next to a hole), is clipped to the input's local range.
     Returns (H, W) float32, clipped to the valid range of ``depth``.
     """
     import cv2
@@ -703,14 +702,11 @@ def _guided_estimate(depth: np.ndarray, guide: np.ndarray, p: GbpParams, guide_s
     # the depth's own gradients, per low-resolution pixel in levels of the range (a jump spreads over s pixels)
     gradient_sigma = p.gradient_levels * span / 255.0 / s
     x = _clamped_bicubic(filled, (H, W), jump)
-    bounds = residual_bounds = _local_bounds(depth, (H, W)) if clip_rounds else None
-    if clip_rounds and not valid.all():
+    bounds = residual_bounds = _local_bounds(depth, (H, W)) if p.clip_rounds else None
+    if p.clip_rounds and not valid.all():
         # after the residual, not within one input pixel of a missing one: the free pixels over a hole would
         # otherwise carry the clipped rim's pull into it
-        near = cv2.dilate((~valid).astype(np.uint8), np.ones((3, 3), np.uint8))
-        near = _resize(near, (H, W), cv2.INTER_NEAREST) > 0
-        residual_bounds = (np.where(near, -np.inf, bounds[0]).astype(np.float32),
-                           np.where(near, np.inf, bounds[1]).astype(np.float32))
+        residual_bounds = _local_bounds(depth, (H, W), hole_margin=1)
     interp = cv2.INTER_LANCZOS4 if p.residual_interp == "lanczos" else cv2.INTER_CUBIC
     for k in range(p.iterations):
         # geometric schedule lambda_first -> lambda_last over the rounds
@@ -792,7 +788,7 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     guide_lr = np.ascontiguousarray(_resize(guide, (h, w), cv2.INTER_AREA)[:hc, :wc])
     # on the guide reduced to the input's grid the finest band is mostly fine texture, not noise: its own factor
     g = _guided_estimate(small, guide_lr, p, p.trust_guide_noise * estimate_guide_noise(guide_lr),
-                         _near_jump(small, p), clip_rounds=p.clip_rounds)
+                         _near_jump(small, p))
     b = _resize(_resize(g, small.shape, cv2.INTER_AREA), (hc, wc), cv2.INTER_CUBIC)
     valid = np.isfinite(depth[:hc, :wc])
     y = np.where(valid, depth[:hc, :wc], b)
@@ -833,8 +829,12 @@ def _clip_to_local_range(result: np.ndarray, depth: np.ndarray,
     cv2.min(result, high, dst=result)
 
 
-def _local_bounds(depth: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """The bounds of :func:`_clip_to_local_range` on a grid of ``shape``: (low, high), float32, +-inf over holes."""
+def _local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """The bounds of :func:`_clip_to_local_range` on a grid of ``shape``: (low, high), float32.
+
+    They are +-inf (no bound) over missing input pixels and, with
+    ``hole_margin``, over the input pixels within that many pixels of one.
+    """
     import cv2
 
     padded = np.pad(depth, 1, mode="reflect", reflect_type="odd")   # NaN stays NaN
@@ -843,6 +843,8 @@ def _local_bounds(depth: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray
     low = cv2.erode(np.where(valid, padded, np.inf).astype(np.float32), kernel)[1:-1, 1:-1]
     high = cv2.dilate(np.where(valid, padded, -np.inf).astype(np.float32), kernel)[1:-1, 1:-1]
     missing = ~valid[1:-1, 1:-1]
+    if hole_margin > 0:
+        missing = cv2.dilate(missing.astype(np.uint8), np.ones((2 * hole_margin + 1,) * 2, np.uint8)) > 0
     low[missing], high[missing] = -np.inf, np.inf
     return _resize(low, shape, cv2.INTER_NEAREST), _resize(high, shape, cv2.INTER_NEAREST)
 
@@ -919,8 +921,7 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     (h, w), (H, W) = depth.shape, guide.shape[:2]
     box = footprint_share(depth, p)
     jump = _near_jump(depth, p)  # where the input shows a depth jump: the start and the fallback are clipped there
-    result = _guided_estimate(depth, guide, p, p.guide_noise * estimate_guide_noise(guide), jump, progress, box,
-                              p.clip_rounds)
+    result = _guided_estimate(depth, guide, p, p.guide_noise * estimate_guide_noise(guide), jump, progress, box)
     if p.trust:
         if p.local_range:
             _clip_to_local_range(result, depth)
