@@ -7,8 +7,7 @@ and after it and comparing the two files::
     python benchmarks/output_hashes.py -o after.json           # on the new one
     python benchmarks/output_hashes.py --compare before.json after.json
 
-Inputs: the bundled scenes (Art x4/x8/x16, the Azure Kinect mug, the iPhone
-bookshelf), up to ``--scenes`` test scenes of each benchmark protocol at each
+Inputs: the bundled registered scenes (Art x4/x8/x16, the iPhone bookshelf), up to ``--scenes`` test scenes of each benchmark protocol at each
 of its scales (from ``../shared/data`` or ``--data``), and generated scenes
 with holes and noise. Methods: every registered method whose output is
 deterministic (``Method.deterministic``), each with its defaults, plus the
@@ -41,7 +40,7 @@ def _inputs(data: Path | None, per_protocol: int):
     art = sample_folder("art")
     for scale in (4, 8, 16):
         yield f"art x{scale}", read_depth(art / f"noisy_x{scale}.png"), read_rgb(art / "color.png")
-    for scene in ("bookshelf", "mug"):
+    for scene in ("bookshelf",):
         yield scene, read_depth(sample_folder(scene) / "depth.png"), read_rgb(sample_folder(scene) / "color.jpg")
     for seed, scale in ((1, 4), (2, 8)):
         scene = make_scene((96, 128), scale, n_objects=3, seed=seed, color_noise_std=4.0, noise_std=2.0,
