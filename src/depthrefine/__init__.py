@@ -6,6 +6,7 @@ The main entry point is :func:`refine`::
     depth_hr = depthrefine.refine(depth_lr, rgb_hr)                 # guided back-projection ("gbp")
     depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="thesis")  # the thesis method, as specified
     depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="bilinear")
+    depth_hr, confidence = depthrefine.refine_with_confidence(depth_lr, rgb_hr)  # 1 = most trusted
 
 Subpackages, one per domain (the README's "Architecture" section draws the flow):
 
@@ -35,6 +36,7 @@ _EXPORTS = {
     ".methods.thesis.params": ("RefineParams",),
     ".methods.gbp": ("GbpParams",),
     ".methods.thesis.refine": ("Refinement", "ScaleWarning", "refine_with_intermediates"),
+    ".methods.confidence": ("refine_with_confidence",),
 }
 _SUBPACKAGES = ("methods", "rig", "bench", "io", "cli", "batch", "viz", "evaluate")
 
@@ -43,6 +45,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _SUBPACKAGES)
 __all__ = [
     "refine",
     "refine_with_intermediates",
+    "refine_with_confidence",
     "RefineParams",
     "GbpParams",
     "DEFAULT_METHOD",

@@ -57,6 +57,15 @@ class Method:
         state goes with the next frame. ``depthrefine batch --temporal`` and
         :func:`depthrefine.batch.refine_many` (``temporal=True``) use it when
         present; methods without it run frame by frame.
+    confidence : callable or None
+        Optional confidence map from the method's own internals:
+        ``confidence(depth_lr, rgb_hr, *, params=None, progress=None) ->
+        (depth_hr, confidence)``, the depth bit-identical to ``func``'s and
+        the confidence float32 in [0, 1] on the same grid (1 = most trusted,
+        0 where there is no depth). Methods without it get the generic map of
+        :func:`depthrefine.methods.confidence.generic_confidence` (from the
+        input's support and the output's local disagreement);
+        :func:`depthrefine.refine_with_confidence` picks one or the other.
     """
 
     name: str
@@ -67,6 +76,7 @@ class Method:
     deterministic: bool = True
     interpolating: bool = False
     refine_stateful: Callable[..., tuple[np.ndarray, Any]] | None = None
+    confidence: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
 
     def default_params(self) -> Any:
         """The method's default parameters (``None`` if it has none)."""
@@ -87,6 +97,7 @@ def register_method(
     interpolating: bool = False,
     replace: bool = False,
     refine_stateful: Callable[..., tuple[np.ndarray, Any]] | None = None,
+    confidence: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> Method:
     """Add a method to :data:`METHODS` and return its entry.
 
@@ -98,7 +109,7 @@ def register_method(
         raise ValueError(f"a method named {name!r} is already registered; pass replace=True to replace it.")
     entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided,
                    deterministic=deterministic, interpolating=interpolating,
-                   refine_stateful=refine_stateful)
+                   refine_stateful=refine_stateful, confidence=confidence)
     METHODS[name] = entry
     return entry
 
@@ -218,6 +229,6 @@ if peers.fast_bilateral_solver_available():
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
 register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,
-                refine_stateful=gbp.upsample_gbp_stateful,
+                refine_stateful=gbp.upsample_gbp_stateful, confidence=gbp.upsample_gbp_with_confidence,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")

@@ -18,7 +18,8 @@ registered color image (``H x W``, any factor) in five steps, one module each:
    to clipped bicubic interpolation where its detail is not confirmed, so a
    guide whose texture is not depth does no harm.
 
-``upsample`` runs the steps in this order (:func:`upsample_gbp`) and holds the
+``confidence`` makes its confidence map from these internals
+(:func:`upsample_gbp_with_confidence`). ``upsample`` runs the steps in this order (:func:`upsample_gbp`) and holds the
 warm start for video (:func:`upsample_gbp_stateful`); ``params`` holds the
 knobs (:class:`GbpParams`). Invalid input pixels are filled from the nearest
 valid pixel before any interpolation and never pull the result; the output
@@ -38,6 +39,7 @@ from .measure import InputMeasures, block_mean_valid, estimate_guide_noise, esti
 from .params import GbpParams
 from .trust import guide_trust
 from .upsample import upsample_gbp, upsample_gbp_stateful
+from .confidence import upsample_gbp_with_confidence
 
-__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "estimate_noise", "estimate_guide_noise",
+__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "upsample_gbp_with_confidence", "estimate_noise", "estimate_guide_noise",
            "footprint_share", "guide_trust", "block_mean_valid", "InputMeasures"]
