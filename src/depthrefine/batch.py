@@ -68,6 +68,9 @@ class FrameResult:
         Whether the failure is the input's (``ValueError``/``TypeError``,
         e.g. an unreadable file or shapes that do not belong together)
         rather than an internal error.
+    confidence : ndarray or None
+        The confidence map (float32 in [0, 1]) when it was asked for
+        (:func:`run_frames` ``confidence=True``).
     """
 
     key: Hashable
@@ -75,6 +78,7 @@ class FrameResult:
     seconds: float = 0.0
     error: str | None = None
     bad_input: bool = False
+    confidence: np.ndarray | None = None
 
 
 def refine_many(
@@ -86,6 +90,7 @@ def refine_many(
     temporal: bool = False,
     chunk: int = DEFAULT_CHUNK,
     workers: int | None = None,
+    confidence: bool = False,
 ) -> Iterator[tuple[Hashable, np.ndarray]]:
     """Refine many depth + color pairs on Dask; yield ``(key, depth_hr)`` in input order.
 
@@ -105,6 +110,10 @@ def refine_many(
     temporal : bool
         Warm-start each frame from the previous one within chunks of
         ``chunk`` frames (see the module's notes).
+    confidence : bool
+        Also make each frame's confidence map and yield ``(key, depth_hr,
+        confidence)`` (:func:`depthrefine.refine_with_confidence`; with
+        ``temporal``, :func:`depthrefine.methods.confidence.confidence_of`).
 
     Raises
     ------
@@ -130,11 +139,11 @@ def refine_many(
         if client is None:
             client = stack.enter_context(local_client(workers))
         for result in run_frames(tasks, entry=entry, params=params, client=client, temporal=temporal,
-                                 chunk=chunk):
+                                 chunk=chunk, confidence=confidence):
             if result.error is not None:
                 kind = ValueError if result.bad_input else RuntimeError
                 raise kind(f"frame {result.key!r}: {result.error}")
-            yield result.key, result.depth_hr
+            yield (result.key, result.depth_hr, result.confidence) if confidence else (result.key, result.depth_hr)
 
 
 def _constant(value: tuple[np.ndarray, np.ndarray]) -> Loader:
@@ -208,6 +217,7 @@ def run_frames(
     chunk: int = DEFAULT_CHUNK,
     want: Callable[[Hashable], bool] | None = None,
     ahead: int | None = None,
+    confidence: bool = False,
 ) -> Iterator[FrameResult]:
     """Run frames on ``client``; yield one :class:`FrameResult` per frame, in input order.
 
@@ -231,6 +241,8 @@ def run_frames(
         warm-start it). Used to resume a batch.
     ahead : int, optional
         Tasks in flight (default: twice the workers' threads).
+    confidence : bool
+        Also make each wanted frame's confidence map (:attr:`FrameResult.confidence`).
     """
     from distributed import wait
 
@@ -251,7 +263,7 @@ def run_frames(
                 if group is None:
                     exhausted = True
                     break
-                settled, future, frames = _submit(client, group, entry, params, temporal, want)
+                settled, future, frames = _submit(client, group, entry, params, temporal, want, confidence)
                 if future is None:
                     done[next_submit] = settled
                 else:
@@ -309,7 +321,7 @@ def _chunks(tasks: Iterator, size: int) -> Iterator[list[tuple[int, Hashable, An
         yield group
 
 
-def _submit(client, group, entry, params, temporal, want):
+def _submit(client, group, entry, params, temporal, want, confidence=False):
     """Load a chunk's frames here and send them: (results settled now, future or None, its frames)."""
     wanted = [want(key) for _, key, _ in group]
     last = max((i for i, w in enumerate(wanted) if w), default=-1)
@@ -330,7 +342,7 @@ def _submit(client, group, entry, params, temporal, want):
     if not items:
         return settled, None, []
     [data] = client.scatter([items], hash=False)
-    future = client.submit(_solve_chunk, entry, params, temporal, data, pure=False)
+    future = client.submit(_solve_chunk, entry, params, temporal, data, confidence, pure=False)
     return settled, future, [(order, key) for order, key, *_ in items]
 
 
@@ -340,16 +352,19 @@ def _collect(future, frames: list[tuple[int, Hashable]]) -> list[tuple[int, Fram
     except Exception as exc:  # noqa: BLE001 - a worker died or the task could not run
         message = f"internal error: the worker failed: {type(exc).__name__}: {_one_line(exc)}"
         return [(order, FrameResult(key, None, error=message)) for order, key in frames]
-    return [(order, FrameResult(key, depth, seconds, error, bad))
-            for order, key, depth, seconds, error, bad in rows]
+    return [(order, FrameResult(key, depth, seconds, error, bad, conf))
+            for order, key, depth, seconds, error, bad, conf in rows]
 
 
 def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
-def _solve_chunk(entry: Method, params: Any, temporal: bool, items: list) -> list[tuple]:
-    """On a worker: refine a chunk's frames in order (warm-starting them with ``temporal``)."""
+def _solve_chunk(entry: Method, params: Any, temporal: bool, items: list, confidence: bool = False) -> list[tuple]:
+    """On a worker: refine a chunk's frames in order (warm-starting them with ``temporal``), with their
+    confidence maps when asked."""
+    from .methods.confidence import confidence_of, method_with_confidence
+
     stateful = temporal and entry.refine_stateful is not None
     state = None
     rows = []
@@ -357,18 +372,23 @@ def _solve_chunk(entry: Method, params: Any, temporal: bool, items: list) -> lis
         start = time.perf_counter()
         try:
             check_call(entry, depth_lr, rgb_hr, params)
+            conf = None
             if stateful:
                 depth_hr, state = entry.refine_stateful(depth_lr, rgb_hr, params=params, state=state)
+                if confidence and is_wanted:
+                    conf = confidence_of(entry, depth_lr, rgb_hr, depth_hr, params=params)
+            elif confidence and is_wanted:
+                depth_hr, conf = method_with_confidence(entry, depth_lr, rgb_hr, params=params)
             else:
                 depth_hr = entry.func(depth_lr, rgb_hr, params=params, progress=None)
         except (ValueError, TypeError, MemoryError) as exc:
-            rows.append((order, key, None, time.perf_counter() - start, _one_line(exc), True))
+            rows.append((order, key, None, time.perf_counter() - start, _one_line(exc), True, None))
             continue
         except Exception as exc:  # noqa: BLE001 - reported per frame as an internal error
             package = missing_dependency(exc)  # e.g. numba for the thesis method: the user can fix it
             message = (missing_dependency_message(package, exc) if package
                        else f"internal error: {type(exc).__name__}: {_one_line(exc)}")
-            rows.append((order, key, None, time.perf_counter() - start, message, False))
+            rows.append((order, key, None, time.perf_counter() - start, message, False, None))
             continue
-        rows.append((order, key, depth_hr if is_wanted else None, time.perf_counter() - start, None, False))
+        rows.append((order, key, depth_hr if is_wanted else None, time.perf_counter() - start, None, False, conf))
     return rows

@@ -14,6 +14,7 @@ from typing import Any
 from .. import __version__
 from ..io._files import InputFileError, atomic_write
 from ..io._names import DEFAULT_MAX_DT
+from ._confidence import add_confidence_options, apply_min_confidence, wants_confidence
 from ._common import add_depth_options, add_output, add_overwrite, add_params_options, build_params, params_dict, \
     parse_count, progress_bar
 
@@ -29,7 +30,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
             "Refine every depth + color pair of INPUT: a folder with depth/ and color/ subfolders whose files pair "
             "by stem, a CSV manifest with columns depth,color (paths relative to it), or a ROS 1 bag (.bag) or "
             "ROS 2 bag (folder with metadata.yaml, .db3 or .mcap) with --depth-topic and --color-topic. Writes "
-            "OUTDIR/<stem>.<ext> in the depth's dtype (for bags the stem is the depth time stamp in ns) and "
+            "OUTDIR/<stem>.<ext> in the depth's dtype (for bags the stem is the depth time stamp in ns), with "
+            "--confidence FORMAT OUTDIR/confidence/<stem>.<FORMAT>, and "
             "OUTDIR/batch.json. Runs on a local Dask cluster (one process per core) or, with --scheduler, on a "
             "remote one. Run the same command again to resume: frames already written are skipped. Exit status "
             "0 if every frame was refined, 2 if a frame's input was bad, 1 if a frame failed otherwise."
@@ -53,6 +55,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--max-dt", type=parse_duration, metavar="T", default=DEFAULT_MAX_DT,
                    help="ROS bag: pair a depth frame with the nearest color frame within T (20ms, 0.02s or 0.02 "
                         "seconds; default 20ms)")
+    add_confidence_options(p, folder=True)
     add_overwrite(p)
     add_depth_options(p)
     p.set_defaults(func=run)
@@ -68,7 +71,7 @@ def parse_duration(text: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ..batch import DEFAULT_CHUNK, local_client, needed_keys, run_frames
-    from ..io import open_sequence, write_depth
+    from ..io import open_sequence, write_confidence, write_depth
     from ..methods.registry import get_method
 
     if args.chunk is not None and not args.temporal:
@@ -90,20 +93,29 @@ def run(args: argparse.Namespace) -> int:
         "chunk": chunk if args.temporal else None,
         "max_dt": args.max_dt if seq.topics else None,
         "saturated_invalid": bool(args.saturated_invalid),
+        **({"confidence": args.confidence, "min_confidence": args.min_confidence} if wants_confidence(args) else {}),
     }
     _check_outdir(outdir, seq, settings, overwrite=args.overwrite)
 
     outputs = {f.key: outdir / f"{f.key}{f.suffix}" for f in seq.frames}
-    done_before = {f.key for f in seq.frames if not args.overwrite and outputs[f.key].is_file()}
+    confidence_outputs = ({f.key: outdir / "confidence" / f"{f.key}.{args.confidence}" for f in seq.frames}
+                          if args.confidence else {})
+    done_before = {f.key for f in seq.frames if not args.overwrite and outputs[f.key].is_file()
+                   and (not confidence_outputs or confidence_outputs[f.key].is_file())}
     want = lambda key: key not in done_before  # noqa: E731
     need = needed_keys([f.key for f in seq.frames], want, temporal=args.temporal, chunk=chunk)
     outdir.mkdir(exist_ok=True)
     _remove_leftovers(outdir, outputs.values())
+    if confidence_outputs:
+        (outdir / "confidence").mkdir(exist_ok=True)
+        _remove_leftovers(outdir / "confidence", confidence_outputs.values())
 
     records: dict[str, dict[str, Any]] = {}
     previous = _read_record(outdir)
     for frame in seq.frames:
         row = {"key": frame.key, "depth": frame.depth, "color": frame.color, "output": outputs[frame.key].name}
+        if confidence_outputs:
+            row["confidence"] = f"confidence/{confidence_outputs[frame.key].name}"
         if frame.key in done_before:
             old = previous.get(frame.key, {})
             row.update(status="done", seconds=old.get("seconds") if old.get("status") == "done" else None)
@@ -143,14 +155,19 @@ def run(args: argparse.Namespace) -> int:
             header["scheduler"] = args.scheduler or "local"
             update(0, to_run)
             for result in run_frames(tasks(), entry=entry, params=params, client=client,
-                                     temporal=args.temporal, chunk=chunk, want=want):
+                                     temporal=args.temporal, chunk=chunk, want=want,
+                                     confidence=wants_confidence(args)):
                 row = records[str(result.key)]
                 if result.key in done_before:
                     continue
                 row["seconds"] = round(result.seconds, 4)
                 if result.error is None:
                     try:
-                        write_depth(outputs[result.key], result.depth_hr, dtype=dtypes[result.key],
+                        depth_hr, confidence = apply_min_confidence(result.depth_hr, result.confidence,
+                                                                    args.min_confidence)
+                        if confidence_outputs:  # first: a frame counts as done once its depth is written
+                            write_confidence(confidence_outputs[result.key], confidence, overwrite=True)
+                        write_depth(outputs[result.key], depth_hr, dtype=dtypes[result.key],
                                     overwrite=args.overwrite)
                         row["status"] = "done"
                     except (OSError, ValueError) as exc:

@@ -193,6 +193,7 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
     figure_scale = 8 if 8 in scales else max(scales)
     total = len(cases) * len(methods)
     rows = []
+    curves: dict = {}   # the sparsification curves of the confidence maps
     figures: list[tuple[str, str]] = []
     bar = tqdm(total=total, desc="bench", unit="run", disable=not sys.stderr.isatty(), leave=False)
     try:
@@ -203,9 +204,10 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
                 want = folder is not None and len(figures) < MAX_PAIR_FIGURES
             else:
                 want = folder is not None and case.scale == figure_scale
-            result = run_benchmark([case], methods, keep=(lambda c: want),
+            result = run_benchmark([case], methods, keep=(lambda c: want), confidence=True,
                                    progress=lambda done, _total: bar.update(offset + done - bar.n))
             rows += result.rows
+            curves.update(result.curves)
             if want:
                 name = f"fig_{case.protocol}_{case.scene}_x{case.scale}.png"
                 fig = report.scene_figure(case, result.kept[case.key],
@@ -216,11 +218,11 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
     finally:
         bar.close()
     if folder is not None:
-        _write_report(folder, rows, methods, figures, skipped)
+        _write_report(folder, rows, methods, figures, skipped, curves=curves)
     return rows
 
 
-def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
+def _write_report(folder: Path, rows, methods, figures, skipped=(), *, curves=None) -> None:
     from ..bench import report
     from ..methods.peers import fast_bilateral_solver_status
     from ..methods.registry import get_method
@@ -260,12 +262,20 @@ def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
     notes += [f"Skipped (missing or unusable input): {s}" for s in skipped]
     plot = "rmse_vs_scale.png"
     report.rmse_scale_figure(rows).savefig(folder / plot)
+    confidence_plot = None
+    if curves:
+        from ..bench.confidence_report import sparsification_figure
+
+        confidence_plot = "sparsification.png"
+        sparsification_figure(curves, rows).savefig(folder / confidence_plot)
     (folder / "scores.csv").write_text(report.csv_text(rows), encoding="utf-8")
     (folder / "summary.md").write_text(
-        report.summary_markdown(rows, params_used=params_used, notes=notes, figures=figures, plot=plot),
+        report.summary_markdown(rows, params_used=params_used, notes=notes, figures=figures, plot=plot,
+                                confidence_plot=confidence_plot),
         encoding="utf-8")
     (folder / "index.html").write_text(
-        report.html_page(rows, params_used=params_used, notes=notes, figures=figures, plot=plot),
+        report.html_page(rows, params_used=params_used, notes=notes, figures=figures, plot=plot,
+                         confidence_plot=confidence_plot),
         encoding="utf-8")
     (folder / "run.json").write_text(json.dumps({"depthrefine": __version__, "methods": methods,
                                                  "params": params_used}, indent=2) + "\n", encoding="utf-8")

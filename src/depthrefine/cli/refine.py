@@ -9,6 +9,8 @@ import sys
 from pathlib import Path
 
 from .. import __version__
+from ._confidence import (add_confidence_options, apply_min_confidence, check_confidence_output, confidence_note,
+                          refine_maybe_confident, wants_confidence)
 from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
                       add_units_option, build_params, depth_units_label, output_depth, params_dict, progress_bar)
 
@@ -31,7 +33,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--save-intermediate", metavar="DIR",
                    help="write the pictures of the intermediate steps (and the parameters) into DIR")
     p.add_argument("--preview", metavar="PNG",
-                   help="also write a picture of the result (colorbar in --units) beside the color image")
+                   help="also write a picture of the result (colorbar in --units) beside the color image "
+                        "(and its confidence map, with --confidence)")
+    add_confidence_options(p)
     add_units_option(p)
     add_output_format_options(p)
     add_overwrite(p)
@@ -44,7 +48,9 @@ def run(args: argparse.Namespace) -> int:
     from .._validate import as_depth
     from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_output, check_output_dir, read_depth,
                       read_rgb, write_depth, write_figure)
-    from ..methods.registry import get_method, refine
+    from ..io import write_confidence
+    from ..methods.confidence import generic_confidence
+    from ..methods.registry import get_method
     from ..methods.scale import plan_scale
     from ..methods.thesis.refine import refine_with_intermediates
 
@@ -64,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
                                inputs=(args.depth, args.color), what="--preview file")
         if preview.resolve() == out.resolve():
             raise ValueError(f"-o {out} and --preview {args.preview} are the same file; give the picture its own name.")
+    confidence_out = check_confidence_output(args, inputs=(args.depth, args.color), taken=(out, preview))
     params = build_params(args)  # before reading the images: a bad parameter fails at once
     depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
@@ -75,11 +82,16 @@ def run(args: argparse.Namespace) -> int:
         if args.save_intermediate and entry.name == "thesis":
             result = refine_with_intermediates(depth_lr, rgb_hr, params=params, progress=update)
             depth_hr = result.depth_hr
+            confidence = generic_confidence(depth_lr, depth_hr) if wants_confidence(args) else None
         else:
             result = None
-            depth_hr = refine(depth_lr, rgb_hr, method=entry.name, params=params, progress=update)
+            depth_hr, confidence = refine_maybe_confident(args, depth_lr, rgb_hr, method=entry.name, params=params,
+                                                          progress=update)
     finally:
         close()
+    if confidence is not None:
+        note = confidence_note(confidence, args.min_confidence)
+        depth_hr, confidence = apply_min_confidence(depth_hr, confidence, args.min_confidence)
 
     # Only the thesis method needs an integer factor; the others resize straight to the color grid.
     scale_note = step.describe() if entry.name == "thesis" or not step.resizes_color else (
@@ -107,8 +119,11 @@ def run(args: argparse.Namespace) -> int:
 
     def write_outputs() -> None:
         written.append(write_depth(out, stored, dtype=dtype, overwrite=args.overwrite))
+        if confidence_out is not None:
+            written.append(write_confidence(confidence_out, confidence, overwrite=args.overwrite))
         if preview is not None:
-            fig = viz.depth_figure(shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})")
+            fig = viz.depth_figure(shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})",
+                                   confidence=confidence)
             written.append(write_figure(preview, fig, overwrite=args.overwrite))
 
     try:
@@ -128,6 +143,8 @@ def run(args: argparse.Namespace) -> int:
     if entry.name == "thesis" and step.resizes_color:
         scale_note = f"x{step.factor} after the thesis scale step (see the note above)"
     print(f"wrote {out} ({w}x{h}, {dtype}, method {entry.name}, {scale_note})", file=sys.stderr)
+    if confidence is not None:
+        print(f"{'wrote ' + str(confidence_out) + ': ' if confidence_out else ''}{note}", file=sys.stderr)
     if preview is not None:
         print(f"wrote {preview}", file=sys.stderr)
     return 0

@@ -16,8 +16,9 @@ units, as the root of a sum of squared terms (:func:`error_terms`):
   ``REACH_LENGTH`` pixels (where an input pixel's footprint straddles an
   edge, the output may put the edge anywhere inside it);
 - ``hole``: the distance to the nearest valid input pixel (input pixels)
-  times the input's 3x3 depth range there, times ``HOLE_WEIGHT`` (depth
-  invented across a hole);
+  times the input's 3x3 depth range there plus ``HOLE_LEVELS`` levels,
+  times ``HOLE_WEIGHT`` (depth invented across a hole: even on a flat
+  surface it is not measured);
 - ``noise``: the input's noise (:func:`~depthrefine.methods.gbp.estimate_noise`)
   times ``NOISE_SHARE``, a floor for what smoothing leaves of it.
 
@@ -36,23 +37,29 @@ sparsification curves and AUSE against the steepness baseline
 from __future__ import annotations
 
 import math
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
 from .._fill import fill_invalid_nearest
 from .._validate import as_depth
 
-__all__ = ["refine_with_confidence", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
-           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "NOISE_SHARE",
+if TYPE_CHECKING:
+    from .registry import Method
+
+__all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
+           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS",
+           "NOISE_SHARE",
            "ERROR_SCALE", "ERROR_POWER", "CONFIDENCE_LEVELS"]
 
 #: Weight of the output's steepness within one color pixel (3x3), in color pixels.
 NEAR_LENGTH = 1.78
 #: Weight of the output's steepness within half an input pixel, in color pixels.
 REACH_LENGTH = 1.0
-#: Weight of (distance to valid input, input pixels) x (the input's 3x3 range).
+#: Weight of (distance to valid input, input pixels) x (the input's 3x3 range + ``HOLE_LEVELS`` levels).
 HOLE_WEIGHT = 1.0
+#: A filled pixel's error grows by at least this many levels per input pixel of distance to a measurement.
+HOLE_LEVELS = 1.0
 #: The share of the input's noise a pixel's expected error has at least.
 NOISE_SHARE = 0.2
 #: The expected error, levels, is ``ERROR_SCALE * r ** ERROR_POWER`` of the terms' root sum of squares ``r``,
@@ -109,11 +116,31 @@ def refine_with_confidence(
 
     entry = get_method(DEFAULT_METHOD if method is None else method)
     check_call(entry, depth_lr, rgb_hr, params, max_pixels)
+    return method_with_confidence(entry, depth_lr, rgb_hr, params=params, progress=progress)
+
+
+def method_with_confidence(entry: Method, depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: Any = None,
+                           progress: Progress | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """A registered method's depth and confidence, its own hook's or the generic map (no checks: see
+    :func:`refine_with_confidence`)."""
     if entry.confidence is not None:
-        depth_hr, confidence = entry.confidence(depth_lr, rgb_hr, params=params, progress=progress)
-        return depth_hr, confidence
+        return entry.confidence(depth_lr, rgb_hr, params=params, progress=progress)
     depth_hr = entry.func(depth_lr, rgb_hr, params=params, progress=progress)
     return depth_hr, generic_confidence(depth_lr, depth_hr)
+
+
+def confidence_of(entry: Method, depth_lr: np.ndarray, rgb_hr: np.ndarray, depth_hr: np.ndarray, *,
+                  params: Any = None) -> np.ndarray:
+    """The confidence of a result ``depth_hr`` the method made otherwise (a warm-started frame of a sequence).
+
+    Without a hook it is :func:`generic_confidence` of ``depth_hr`` itself;
+    with one it is the hook's map of the frame refined on its own (its
+    extra work runs again): a warm start only averages noise away where the
+    input did not change, so that map does not overstate the trust.
+    """
+    if entry.confidence is None:
+        return generic_confidence(depth_lr, depth_hr)
+    return entry.confidence(depth_lr, rgb_hr, params=params, progress=None)[1]
 
 
 def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray:
@@ -147,12 +174,13 @@ def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray
     depth = as_depth(depth_lr)
     valid = np.isfinite(depth)
     filled = fill_invalid_nearest(depth)
-    terms = error_terms(depth_hr, valid, filled)
+    level = depth_level(filled, valid)
+    terms = error_terms(depth_hr, valid, filled, level)
     floor = NOISE_SHARE * estimate_noise(filled, valid)
-    return confidence_from_error(expected_error(terms, floor, depth_level(filled, valid)), depth_hr)
+    return confidence_from_error(expected_error(terms, floor, level), depth_hr)
 
 
-def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray) -> dict[str, np.ndarray]:
+def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, level: float) -> dict[str, np.ndarray]:
     """The squared error terms of the expected error, weighted, on the grid of ``depth_hr`` (depth units squared).
 
     Parameters
@@ -163,6 +191,8 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray) -> 
         The input's valid pixels.
     filled : (h, w) float32 ndarray
         The input with holes filled from the nearest valid pixel.
+    level : float
+        One level of the input's depth range (:func:`depth_level`).
 
     Returns
     -------
@@ -188,7 +218,7 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray) -> 
         hole = np.zeros((H, W), np.float32)
     else:
         distance = cv2.distanceTransform((~valid).astype(np.uint8), cv2.DIST_L2, 3)
-        span = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel)
+        span = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel) + np.float32(HOLE_LEVELS * level)
         hole = cv2.resize(distance * span, (W, H), interpolation=cv2.INTER_LINEAR)
     return {"near": np.square(NEAR_LENGTH * near), "reach": np.square(REACH_LENGTH * wide),
             "hole": np.square(HOLE_WEIGHT * hole)}

@@ -64,9 +64,10 @@ def gbp_confidence(result: np.ndarray, measures: InputMeasures, guided: np.ndarr
     :func:`~depthrefine.methods.confidence.confidence_from_error` against
     the measured depth range.
     """
-    terms = error_terms(result, measures.valid, measures.filled)
+    level = measures.span / 255.0
+    terms = error_terms(result, measures.valid, measures.filled, level)
     fallback = np.abs(result - guided)
     fallback *= np.float32(FALLBACK_WEIGHT)
     terms["fallback"] = np.square(fallback)
-    expected = expected_error(terms, NOISE_SHARE * measures.sigma, measures.span / 255.0)
+    expected = expected_error(terms, NOISE_SHARE * measures.sigma, level)
     return confidence_from_error(expected, result)
