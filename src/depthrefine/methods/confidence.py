@@ -16,7 +16,8 @@ units, as the root of a sum of squared terms (:func:`error_terms`):
   ``REACH_LENGTH`` pixels (where an input pixel's footprint straddles an
   edge, the output may put the edge anywhere inside it);
 - ``hole``: the distance to the nearest valid input pixel (input pixels)
-  times the input's 3x3 depth range there plus ``HOLE_LEVELS`` levels,
+  times the input's 3x3 depth range there (beyond ``HOLE_RANGE_NOISE``
+  noise sigmas) plus ``HOLE_LEVELS`` levels,
   times ``HOLE_WEIGHT`` (depth invented across a hole: even on a flat
   surface it is not measured);
 - ``noise``: the input's noise (:func:`~depthrefine.methods.gbp.estimate_noise`)
@@ -24,8 +25,8 @@ units, as the root of a sum of squared terms (:func:`error_terms`):
 
 The root sum ``r`` is in *levels* of the input's depth range (1st to 99th
 percentile / 255) and calibrated to the RMS error observed on the tuning
-scenes, ``e = ERROR_SCALE * r ** ERROR_POWER`` levels (large steepness
-overstates the error, which grows about as its square root), then mapped
+scenes, ``e = ERROR_SCALE * sqrt(r)`` levels (large steepness overstates
+the error, which grows about as its square root), then mapped
 to ``1 / (1 + (e / CONFIDENCE_LEVELS)**2)``: confidence 0.5 means an
 expected error of 2 levels, 0.1 of 6 levels.
 The weights were chosen on the benchmark's tuning scenes by
@@ -48,9 +49,9 @@ if TYPE_CHECKING:
     from .registry import Method
 
 __all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
-           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS",
+           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS", "HOLE_RANGE_NOISE",
            "NOISE_SHARE",
-           "ERROR_SCALE", "ERROR_POWER", "CONFIDENCE_LEVELS"]
+           "ERROR_SCALE", "CONFIDENCE_LEVELS"]
 
 #: Weight of the output's steepness within one color pixel (3x3), in color pixels.
 NEAR_LENGTH = 1.78
@@ -60,12 +61,13 @@ REACH_LENGTH = 1.0
 HOLE_WEIGHT = 1.0
 #: A filled pixel's error grows by at least this many levels per input pixel of distance to a measurement.
 HOLE_LEVELS = 1.0
+#: Around a hole the input's 3x3 range counts beyond this many noise sigmas (9 noisy samples span about 3).
+HOLE_RANGE_NOISE = 3.0
 #: The share of the input's noise a pixel's expected error has at least.
 NOISE_SHARE = 0.2
-#: The expected error, levels, is ``ERROR_SCALE * r ** ERROR_POWER`` of the terms' root sum of squares ``r``,
-#: levels (fitted to the binned RMS error of the tuning scenes).
+#: The expected error, levels, is ``ERROR_SCALE * sqrt(r)`` of the terms' root sum of squares ``r``, levels
+#: (fitted, with the square root, to the binned RMS error of the tuning scenes).
 ERROR_SCALE = 1.46
-ERROR_POWER = 0.5
 #: Confidence 0.5: an expected error of this many levels of the input's depth range (range / 255).
 CONFIDENCE_LEVELS = 2.0
 
@@ -175,12 +177,13 @@ def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray
     valid = np.isfinite(depth)
     filled = fill_invalid_nearest(depth)
     level = depth_level(filled, valid)
-    terms = error_terms(depth_hr, valid, filled, level)
-    floor = NOISE_SHARE * estimate_noise(filled, valid)
-    return confidence_from_error(expected_error(terms, floor, level), depth_hr)
+    noise = estimate_noise(filled, valid)
+    terms = error_terms(depth_hr, valid, filled, level, noise)
+    return confidence_from_error(expected_error(terms, NOISE_SHARE * noise, level), depth_hr)
 
 
-def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, level: float) -> dict[str, np.ndarray]:
+def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, level: float,
+                noise: float = 0.0) -> dict[str, np.ndarray]:
     """The squared error terms of the expected error, weighted, on the grid of ``depth_hr`` (depth units squared).
 
     Parameters
@@ -193,6 +196,9 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
         The input with holes filled from the nearest valid pixel.
     level : float
         One level of the input's depth range (:func:`depth_level`).
+    noise : float
+        The input's noise standard deviation (depth units): a 3x3 range
+        below ``HOLE_RANGE_NOISE`` times it counts as flat around a hole.
 
     Returns
     -------
@@ -209,7 +215,9 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
     scale = 0.5 * (H / h + W / w)
     gx = cv2.Sobel(out, cv2.CV_32F, 1, 0, ksize=3, borderType=cv2.BORDER_REPLICATE)
     gy = cv2.Sobel(out, cv2.CV_32F, 0, 1, ksize=3, borderType=cv2.BORDER_REPLICATE)
-    steep = cv2.magnitude(gx, gy) / np.float32(8.0)   # depth per color pixel
+    # not cv2.magnitude: its vector and scalar paths round differently, and where they meet moves with its
+    # threads (not bit-identical from run to run)
+    steep = np.sqrt(gx * gx + gy * gy) / np.float32(8.0)   # depth per color pixel
     reach = max(1, int(round(scale / 2)))
     near = cv2.dilate(steep, np.ones((3, 3), np.uint8))
     wide = cv2.dilate(steep, np.ones((2 * reach + 1,) * 2, np.uint8))
@@ -218,14 +226,15 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
         hole = np.zeros((H, W), np.float32)
     else:
         distance = cv2.distanceTransform((~valid).astype(np.uint8), cv2.DIST_L2, 3)
-        span = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel) + np.float32(HOLE_LEVELS * level)
+        span = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel) - np.float32(HOLE_RANGE_NOISE * noise)
+        span = np.maximum(span, 0.0) + np.float32(HOLE_LEVELS * level)
         hole = cv2.resize(distance * span, (W, H), interpolation=cv2.INTER_LINEAR)
     return {"near": np.square(NEAR_LENGTH * near), "reach": np.square(REACH_LENGTH * wide),
             "hole": np.square(HOLE_WEIGHT * hole)}
 
 
 def expected_error(terms: dict[str, np.ndarray], floor: float, level: float) -> np.ndarray:
-    """The expected error, levels: ``ERROR_SCALE * r ** ERROR_POWER``, ``r = sqrt(floor**2 + sum(terms)) / level``.
+    """The expected error, levels: ``ERROR_SCALE * sqrt(r)``, ``r = sqrt(floor**2 + sum(terms)) / level``.
 
     ``terms`` are squared depth errors (:func:`error_terms`), ``floor`` the
     noise floor and ``level`` one level of the depth range, both in depth
@@ -240,7 +249,8 @@ def expected_error(terms: dict[str, np.ndarray], floor: float, level: float) -> 
     for value in terms.values():
         total += value
     level = np.float32(level if level > 0 else 1.0)
-    return (np.float32(ERROR_SCALE) * (np.sqrt(total) / level) ** np.float32(ERROR_POWER)).astype(np.float32)
+    # square roots only: numpy's vectorised and scalar ``**`` differ in the last bit (not bit-identical)
+    return (np.float32(ERROR_SCALE) * np.sqrt(np.sqrt(total) / level)).astype(np.float32)
 
 
 def depth_level(filled: np.ndarray, valid: np.ndarray) -> float:
@@ -294,8 +304,8 @@ def steepness_confidence(depth_hr: np.ndarray) -> np.ndarray:
         out = fill_invalid_nearest(out) if finite.any() else np.zeros(out.shape, np.float32)
     gx = cv2.Sobel(out, cv2.CV_32F, 1, 0, ksize=3, borderType=cv2.BORDER_REPLICATE)
     gy = cv2.Sobel(out, cv2.CV_32F, 0, 1, ksize=3, borderType=cv2.BORDER_REPLICATE)
-    g = cv2.dilate(cv2.magnitude(gx, gy), np.ones((3, 3), np.uint8))
+    g = cv2.dilate(np.sqrt(gx * gx + gy * gy), np.ones((3, 3), np.uint8))   # numpy: bit-identical (see error_terms)
     p90 = float(np.percentile(g, 90))
-    confidence = np.exp(-g / max(p90, math.ulp(1.0) * max(1.0, float(g.max())))).astype(np.float32)
+    confidence = np.exp(-g.astype(np.float64) / max(p90, math.ulp(1.0) * max(1.0, float(g.max())))).astype(np.float32)
     confidence[~finite] = 0.0
     return confidence

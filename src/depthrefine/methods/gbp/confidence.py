@@ -65,7 +65,7 @@ def gbp_confidence(result: np.ndarray, measures: InputMeasures, guided: np.ndarr
     the measured depth range.
     """
     level = measures.span / 255.0
-    terms = error_terms(result, measures.valid, measures.filled, level)
+    terms = error_terms(result, measures.valid, measures.filled, level, measures.sigma)
     fallback = np.abs(result - guided)
     fallback *= np.float32(FALLBACK_WEIGHT)
     terms["fallback"] = np.square(fallback)
