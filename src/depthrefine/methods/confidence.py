@@ -29,8 +29,9 @@ scenes, ``e = ERROR_SCALE * sqrt(r)`` levels (large steepness overstates
 the error, which grows about as its square root), then mapped
 to ``1 / (1 + (e / CONFIDENCE_LEVELS)**2)``: confidence 0.5 means an
 expected error of 2 levels, 0.1 of 6 levels.
-The weights were chosen on the benchmark's tuning scenes by
-``benchmarks/tune_confidence.py``; ``docs/confidence.md`` shows the
+The weights were chosen on the benchmark's tuning scenes (a coordinate
+search on a half-decade grid; ``benchmarks/confidence_table.py --split tune
+--set NAME=VALUE`` scores any setting); ``docs/confidence.md`` shows the
 sparsification curves and AUSE against the steepness baseline
 (:func:`steepness_confidence`).
 """
