@@ -7,8 +7,8 @@ A method registered with a ``confidence`` hook (gbp) makes its own from its
 internals; every other method gets :func:`generic_confidence`, from the
 input's support and the output's shape.
 
-The map is built from an *expected error* ``e`` per pixel, in the depth's
-units, as the root of a sum of squared terms (:func:`error_terms`):
+The map is built from an *expected error* per pixel, from the root of a sum
+of squared terms in the depth's units (:func:`error_terms`):
 
 - ``near``: the output's steepness within one color pixel, times
   ``NEAR_LENGTH`` pixels (an edge placed a pixel or two off);
@@ -17,19 +17,22 @@ units, as the root of a sum of squared terms (:func:`error_terms`):
   edge, the output may put the edge anywhere inside it);
 - ``hole``: the distance to the nearest valid input pixel (input pixels)
   times the input's 3x3 depth range there (beyond ``HOLE_RANGE_NOISE``
-  noise sigmas) plus ``HOLE_LEVELS`` levels,
-  times ``HOLE_WEIGHT`` (depth invented across a hole: even on a flat
-  surface it is not measured);
+  noise sigmas) plus ``HOLE_LEVELS`` levels, times ``HOLE_WEIGHT`` (depth
+  invented across a hole: even on a flat surface it is not measured);
+- ``disagree``: where the output's reduction (area mean over each input
+  pixel) misses the input by more than its noise, the RMS of the miss over
+  3x3 input pixels, times ``DISAGREE_WEIGHT`` (a method that moved a
+  region's depth away from its measurements, as a mislabelled cluster of
+  the thesis method does);
 - ``noise``: the input's noise (:func:`~depthrefine.methods.gbp.estimate_noise`)
   times ``NOISE_SHARE``, a floor for what smoothing leaves of it.
 
 The root sum ``r`` is in *levels* of the input's depth range (1st to 99th
 percentile / 255) and calibrated to the RMS error observed on the tuning
 scenes, ``e = ERROR_SCALE * sqrt(r)`` levels (large steepness overstates
-the error, which grows about as its square root), then mapped
-to ``1 / (1 + (e / CONFIDENCE_LEVELS)**2)``: confidence 0.5 means an
-expected error of 2 levels, 0.1 of 6 levels.
-The weights were chosen on the benchmark's tuning scenes (a coordinate
+the error, which grows about as its square root), then mapped to
+``1 / (1 + (e / CONFIDENCE_LEVELS)**2)``: confidence 0.5 means an expected
+error of 2 levels, 0.1 of 6 levels. The weights were chosen on the benchmark's tuning scenes (a coordinate
 search on a half-decade grid; ``benchmarks/confidence_table.py --split tune
 --set NAME=VALUE`` scores any setting); ``docs/confidence.md`` shows the
 sparsification curves and AUSE against the steepness baseline
@@ -49,9 +52,9 @@ from .._validate import as_depth
 if TYPE_CHECKING:
     from .registry import Method
 
-__all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
-           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS", "HOLE_RANGE_NOISE",
-           "NOISE_SHARE",
+__all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "generic_confidence",
+           "steepness_confidence", "error_terms", "expected_error", "confidence_from_error", "depth_level",
+           "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS", "HOLE_RANGE_NOISE", "DISAGREE_WEIGHT", "NOISE_SHARE",
            "ERROR_SCALE", "CONFIDENCE_LEVELS"]
 
 #: Weight of the output's steepness within one color pixel (3x3), in color pixels.
@@ -64,6 +67,8 @@ HOLE_WEIGHT = 1.0
 HOLE_LEVELS = 1.0
 #: Around a hole the input's 3x3 range counts beyond this many noise sigmas (9 noisy samples span about 3).
 HOLE_RANGE_NOISE = 3.0
+#: Weight of the local disagreement: the RMS of input minus the output's reduction beyond the noise.
+DISAGREE_WEIGHT = 0.5
 #: The share of the input's noise a pixel's expected error has at least.
 NOISE_SHARE = 0.2
 #: The expected error, levels, is ``ERROR_SCALE * sqrt(r)`` of the terms' root sum of squares ``r``, levels
@@ -184,7 +189,7 @@ def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray
 
 
 def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, level: float,
-                noise: float = 0.0) -> dict[str, np.ndarray]:
+                noise: float = 0.0, *, disagreement: bool = True) -> dict[str, np.ndarray]:
     """The squared error terms of the expected error, weighted, on the grid of ``depth_hr`` (depth units squared).
 
     Parameters
@@ -199,13 +204,17 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
         One level of the input's depth range (:func:`depth_level`).
     noise : float
         The input's noise standard deviation (depth units): a 3x3 range
-        below ``HOLE_RANGE_NOISE`` times it counts as flat around a hole.
+        below ``HOLE_RANGE_NOISE`` times it counts as flat around a hole,
+        and the disagreement counts beyond it.
+    disagreement : bool
+        Include the ``disagree`` term (False for a method whose output's
+        reduction matches its input by construction, as gbp's).
 
     Returns
     -------
     dict
-        ``near``, ``reach``, ``hole``: (H, W) float32, each already weighted
-        (see the module's notes).
+        ``near``, ``reach``, ``hole`` and ``disagree``: (H, W) float32, each
+        already weighted (see the module's notes).
     """
     import cv2
 
@@ -230,8 +239,18 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
         span = cv2.dilate(filled, kernel) - cv2.erode(filled, kernel) - np.float32(HOLE_RANGE_NOISE * noise)
         span = np.maximum(span, 0.0) + np.float32(HOLE_LEVELS * level)
         hole = cv2.resize(distance * span, (W, H), interpolation=cv2.INTER_LINEAR)
-    return {"near": np.square(NEAR_LENGTH * near), "reach": np.square(REACH_LENGTH * wide),
-            "hole": np.square(HOLE_WEIGHT * hole)}
+    terms = {"near": np.square(NEAR_LENGTH * near), "reach": np.square(REACH_LENGTH * wide),
+             "hole": np.square(HOLE_WEIGHT * hole)}
+    if not disagreement:
+        return terms
+    # local disagreement: the RMS of the input minus the output's reduction over 3x3 input pixels, beyond the noise
+    reduced = cv2.resize(out, (w, h), interpolation=cv2.INTER_AREA)
+    residual = np.where(valid, filled - reduced, np.float32(0.0)).astype(np.float32)
+    count = cv2.blur(valid.astype(np.float32), (3, 3), borderType=cv2.BORDER_REFLECT)
+    mean_square = cv2.blur(residual * residual, (3, 3), borderType=cv2.BORDER_REFLECT) / np.maximum(count, 1e-3)
+    beyond = np.maximum(mean_square - np.float32(noise) ** 2, 0.0)
+    terms["disagree"] = np.float32(DISAGREE_WEIGHT ** 2) * cv2.resize(beyond, (W, H), interpolation=cv2.INTER_LINEAR)
+    return terms
 
 
 def expected_error(terms: dict[str, np.ndarray], floor: float, level: float) -> np.ndarray:

@@ -1,8 +1,10 @@
 """gbp's confidence map, from its own internals (:func:`upsample_gbp_with_confidence`).
 
-Beside the terms every method gets (:func:`~depthrefine.methods.confidence.error_terms`:
-the output's steepness near and within half an input pixel, the distance to
-valid input across holes), gbp knows two more things: the input's noise,
+Of the terms every other method gets (:func:`~depthrefine.methods.confidence.error_terms`)
+gbp keeps the output's steepness near and within half an input pixel and the
+distance to valid input across holes; the local disagreement with the input
+says nothing here (back-projection makes the result's reduction match the
+input, what is left is noise). gbp knows two more things: the input's noise,
 measured once (step 1), sets the floor; and step 5 says how far the guide
 was trusted: where the result falls back from the guided estimate to the
 clipped bicubic one, guide and input disagree, and by about the size of
@@ -65,7 +67,8 @@ def gbp_confidence(result: np.ndarray, measures: InputMeasures, guided: np.ndarr
     the measured depth range.
     """
     level = measures.span / 255.0
-    terms = error_terms(result, measures.valid, measures.filled, level, measures.sigma)
+    # no disagreement term: back-projection makes the result's reduction match the input (what is left is noise)
+    terms = error_terms(result, measures.valid, measures.filled, level, measures.sigma, disagreement=False)
     fallback = np.abs(result - guided)
     fallback *= np.float32(FALLBACK_WEIGHT)
     terms["fallback"] = np.square(fallback)
