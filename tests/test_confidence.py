@@ -322,3 +322,24 @@ def test_confidence_is_bit_identical_from_call_to_call_and_thread_to_thread():
         runs = [f.result()[1] for f in [pool.submit(depthrefine.refine_with_confidence, depth_lr, rgb)
                                         for _ in range(4)]]
     assert all(np.array_equal(first, again) for again in runs)
+
+
+def test_temporal_batch_confidence_is_the_frames_own_map_or_the_generic_map_of_the_warm_result():
+    pytest.importorskip("distributed")
+    from distributed import Client, LocalCluster
+
+    from depthrefine.batch import refine_many
+    from depthrefine.bench.synthetic import make_sequence
+
+    frames = [(f.depth_lr, f.rgb_hr) for f in make_sequence(3, (48, 64), 4, seed=5)]
+    params = depthrefine.RefineParams(patches=(2, 2))
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        pairs = dict(enumerate(frames))
+        gbp = list(refine_many(pairs, client=client, temporal=True, confidence=True))
+        thesis = list(refine_many(pairs, method="thesis", params=params, client=client, temporal=True,
+                                  confidence=True))
+    for (depth_lr, rgb), (_, _, confidence) in zip(frames, gbp):
+        assert np.array_equal(confidence, depthrefine.refine_with_confidence(depth_lr, rgb)[1])
+    for (depth_lr, _), (_, depth_hr, confidence) in zip(frames, thesis):
+        assert np.array_equal(confidence, generic_confidence(depth_lr, depth_hr))
