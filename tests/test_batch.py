@@ -27,13 +27,13 @@ from depthrefine.bench.synthetic import make_scene, make_sequence
 from depthrefine.cli import main
 from depthrefine.io import depth_to_dtype, read_depth, write_depth, write_rgb
 from depthrefine.methods.registry import get_method, refine
-from depthrefine.methods.thesis.params import RefineParams
+from depthrefine.methods.thesis.params import ThesisParams
 
 distributed = pytest.importorskip("distributed")
 rosbags = pytest.importorskip("rosbags")
 
 SRC = Path(__file__).resolve().parents[1] / "src"
-PARAMS = RefineParams(patches=(2, 2))
+PARAMS = ThesisParams(patches=(2, 2))
 
 
 @pytest.fixture(scope="module")
@@ -219,14 +219,14 @@ SLOW_RUNNER = textwrap.dedent("""
     import sys, time
     from depthrefine.cli import main
     from depthrefine.methods.registry import register_method
-    from depthrefine.methods.thesis.params import RefineParams
+    from depthrefine.methods.thesis.params import ThesisParams
     from depthrefine.methods.thesis.refine import refine_thesis
 
     def slow_thesis(depth_lr, rgb_hr, *, params=None, progress=None):
         time.sleep(0.2)  # long enough to be killed midway
         return refine_thesis(depth_lr, rgb_hr, params=params, progress=progress)
 
-    register_method("slow_thesis", slow_thesis, params_type=RefineParams)
+    register_method("slow_thesis", slow_thesis, params_type=ThesisParams)
     sys.exit(main(sys.argv[1:]))
 """)
 

@@ -144,7 +144,7 @@ def test_patches_are_columns_first_in_every_command():
     for command in (["refine", "d.png", "c.png", "-o", "o.png"], RUN):
         args = _parse(command + ["--patches", "6x4"])
         assert args.patches == (6, 4)
-    params = depthrefine.RefineParams(patches=(6, 4))
+    params = depthrefine.ThesisParams(patches=(6, 4))
     assert params.patches == (6, 4)    # (across, down), as --board
     text = build_parser()._subparsers._group_actions[0].choices["refine"].format_help()
     assert "COLSxROWS" in text and "columns first" in text

@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 
 import depthrefine
-from depthrefine import RefineParams
+from depthrefine import ThesisParams
 
 pytestmark = pytest.mark.shared_data
 
@@ -56,7 +56,7 @@ def test_faithful_thesis_on_middlebury_books(shared_data, s):
     assert depth_lr.dtype == np.uint8 and rgb.shape[:2] == gt.shape == (1088, 1376)
 
     thesis = rmse(depthrefine.refine(depth_lr, rgb, method="thesis"), gt)
-    no_correction = rmse(depthrefine.refine(depth_lr, rgb, params=RefineParams(correct_depth=False), method="thesis"), gt)
+    no_correction = rmse(depthrefine.refine(depth_lr, rgb, params=ThesisParams(correct_depth=False), method="thesis"), gt)
     nearest = rmse(depthrefine.refine(depth_lr, rgb, method="nearest"), gt)
     bilinear = rmse(depthrefine.refine(depth_lr, rgb, method="bilinear"), gt)
     figures = dict(s=s, thesis=thesis, no_correction=no_correction, nearest=nearest, bilinear=bilinear)

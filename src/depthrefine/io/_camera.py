@@ -39,7 +39,7 @@ from typing import Any, Mapping
 
 from ..rig.chain import AlignSettings
 from ..rig.camera import CameraModel, StereoRig
-from ..methods.thesis.params import params_from_mapping
+from ..methods.params import params_from_mapping
 from ._files import InputFileError, atomic_write, check_output
 from ._params import read_mapping
 
