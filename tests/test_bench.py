@@ -176,7 +176,7 @@ def test_bench_cli_bad_arguments_exit_2(tmp_path, capsys):
 def test_bench_cli_default_data_missing_is_a_clear_error(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     monkeypatch.delenv("DEPTHREFINE_DATA", raising=False)
-    monkeypatch.setattr("depthrefine.cli.bench.checkout_data_dir", lambda: tmp_path / "shared" / "data")
+    monkeypatch.setattr("depthrefine.bench.suite.checkout_data_dir", lambda: tmp_path / "shared" / "data")
     assert main(["bench", "--protocol", "lu"]) == 2
     err = capsys.readouterr().err
     assert "pass --data DIR" in err and "DEPTHREFINE_DATA" in err and str(tmp_path / "shared" / "data") in err
@@ -187,7 +187,7 @@ def test_bench_cli_default_data_missing_is_a_clear_error(tmp_path, monkeypatch, 
 
 def test_bench_cli_default_data_order(tmp_path, monkeypatch):
     """--data, else $DEPTHREFINE_DATA, else ../shared/data beside the source checkout."""
-    from depthrefine.cli.bench import _data_dir, checkout_data_dir
+    from depthrefine.bench.suite import checkout_data_dir, find_data_folder as _data_dir
 
     import depthrefine
 
@@ -197,7 +197,7 @@ def test_bench_cli_default_data_order(tmp_path, monkeypatch):
     assert _data_dir(None) == tmp_path
     assert _data_dir(str(tmp_path / ".")) == tmp_path / "."
     monkeypatch.delenv("DEPTHREFINE_DATA")
-    monkeypatch.setattr("depthrefine.cli.bench.checkout_data_dir", lambda: tmp_path)
+    monkeypatch.setattr("depthrefine.bench.suite.checkout_data_dir", lambda: tmp_path)
     assert _data_dir(None) == tmp_path
 
 

@@ -12,7 +12,7 @@ import tifffile
 import depthrefine
 from depthrefine.bench.synthetic import make_scene
 from depthrefine.cli import build_parser, main
-from depthrefine.cli.demo import PEERS, demo_panels
+from depthrefine.bench.demo import PEERS, demo_panels
 from depthrefine.io import read_depth, scale_to_dtype
 
 SCENE = make_scene((48, 64), 4, n_objects=2, seed=11, color_noise_std=3.0)

@@ -6,6 +6,8 @@
 - ``protocols``  the protocol registry: datasets, case builders, tuning scenes, published rows
 - ``runner``     runs methods x cases and scores them
 - ``report``     tables, figures and the HTML report
+- ``suite``      the benchmark as ``depthrefine bench`` runs it: data folder, cases, case by case, report files
+- ``demo``       the scenes of ``depthrefine demo``: the methods on the shipped data, as figures and a record
 
 The files are read by :mod:`depthrefine.io` (the readers each protocol names).
 """
@@ -24,4 +26,4 @@ _EXPORTS = {
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, (
-    "metrics", "simulate", "synthetic", "protocols", "runner", "report"))
+    "metrics", "simulate", "synthetic", "protocols", "runner", "report", "suite", "demo"))
