@@ -9,11 +9,25 @@ import tempfile
 from pathlib import Path
 from typing import Callable, Iterator
 
-__all__ = ["check_output", "check_output_dir", "atomic_write", "atomic_directory", "InputFileError"]
+__all__ = ["check_output", "check_output_dir", "atomic_write", "atomic_directory", "existing_input", "InputFileError"]
 
 
 class InputFileError(ValueError):
     """A file a user gave cannot be used; the message names it and says what to do."""
+
+
+def existing_input(path: str | os.PathLike, what: str) -> Path:
+    """``path`` as a ``Path`` once it is a readable, non-empty file; else :class:`InputFileError` naming ``what``."""
+    p = Path(path)
+    if not p.exists():
+        raise InputFileError(f"{what} file {p} does not exist; check the path.")
+    if p.is_dir():
+        raise InputFileError(f"{what} file {p} is a folder; give an image file.")
+    if not os.access(p, os.R_OK):
+        raise InputFileError(f"{what} file {p} is not readable; check its permissions.")
+    if p.stat().st_size == 0:
+        raise InputFileError(f"{what} file {p} is empty (0 bytes); save it again.")
+    return p
 
 
 def check_output(

@@ -39,7 +39,7 @@ import numpy as np
 
 from .._lazy import cv2, tifffile
 from .._validate import check_pixels, check_rgb, no_valid_pixel_message
-from ._files import InputFileError, atomic_write, check_output
+from ._files import InputFileError, atomic_write, check_output, existing_input
 
 __all__ = [
     "read_depth",
@@ -56,19 +56,6 @@ __all__ = [
 
 DEPTH_SUFFIXES = (".png", ".tif", ".tiff", ".npy", ".pgm")
 _INTEGER_SUFFIXES = (".png", ".pgm")
-
-
-def _existing(path: str | os.PathLike, what: str) -> Path:
-    p = Path(path)
-    if not p.exists():
-        raise InputFileError(f"{what} file {p} does not exist; check the path.")
-    if p.is_dir():
-        raise InputFileError(f"{what} file {p} is a folder; give an image file.")
-    if not os.access(p, os.R_OK):
-        raise InputFileError(f"{what} file {p} is not readable; check its permissions.")
-    if p.stat().st_size == 0:
-        raise InputFileError(f"{what} file {p} is empty (0 bytes); save it again.")
-    return p
 
 
 def image_shape(path: str | os.PathLike) -> tuple[int, ...] | None:
@@ -234,7 +221,7 @@ def read_depth(
         Missing, unreadable, too large or non-depth file (e.g. a color
         image), or a depth map without any valid pixel.
     """
-    p = _existing(path, "depth")
+    p = existing_input(path, "depth")
     _check_size(p, "depth", max_pixels)
     arr = _read_any(p, "depth")
     if arr.ndim == 3 and arr.shape[2] in (3, 4) and p.suffix.lower() not in (".npy", ".tif", ".tiff"):
@@ -391,7 +378,7 @@ def read_rgb(path: str | os.PathLike, *, max_pixels: int | None = None) -> np.nd
     over ``max_pixels`` or the machine's memory is refused before decoding
     (see :func:`depthrefine._validate.check_pixels`).
     """
-    p = _existing(path, "color")
+    p = existing_input(path, "color")
     _check_size(p, "color", max_pixels)
     arr = _read_any(p, "color")
     if arr.ndim >= 2:

@@ -51,11 +51,10 @@ def params_from_mapping(cls: type, mapping: Mapping[str, Any], *, source: str = 
     Examples
     --------
     >>> from dataclasses import dataclass
-    >>> from typing import ClassVar
     >>> @dataclass(frozen=True)
     ... class Knobs:
     ...     radius: int = 2
-    ...     removed_parameters: ClassVar[dict] = {"clip": "always on"}
+    >>> Knobs.removed_parameters = {"clip": "always on"}  # in a class body: removed_parameters: ClassVar[...] = {...}
     >>> params_from_mapping(Knobs, {"radius": 3})
     Knobs(radius=3)
     >>> params_from_mapping(Knobs, {"clip": True}, source="parameter file p.toml")

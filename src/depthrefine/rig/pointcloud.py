@@ -25,12 +25,11 @@ the distance along the ray instead.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .._lazy import cv2
 from .._validate import as_depth
+from ._geometry import depth_conversion, metres64
 from .camera import CameraModel
 
 __all__ = [
@@ -43,24 +42,6 @@ __all__ = [
 ]
 
 _UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-10)
-
-
-def _conversion(depth_units: float | None, inverse_scale: float | None) -> tuple[str, float]:
-    """Check that exactly one conversion is given; return ``(kind, value)``."""
-    if depth_units is None and inverse_scale is None:
-        raise ValueError(
-            "the depth's units are unknown: give depth_units (metres per unit, e.g. 0.001 for uint16 "
-            "millimetres) or, for 8-bit depth intensity / disparity (larger = nearer), inverse_scale "
-            "with metres = inverse_scale / value. 8-bit depth intensity cannot be placed in 3-D without it."
-        )
-    if depth_units is not None and inverse_scale is not None:
-        raise ValueError("give either depth_units or inverse_scale, not both.")
-    name, value = ("depth_units", depth_units) if depth_units is not None else ("inverse_scale", inverse_scale)
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
-        raise TypeError(f"{name} must be a number; got {value!r}.")
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be > 0; got {value}.")
-    return ("distance" if name == "depth_units" else "inverse"), float(value)
 
 
 def depth_to_metres(
@@ -87,15 +68,7 @@ def depth_to_metres(
     >>> depth_to_metres(np.array([[255, 51]], np.uint8), inverse_scale=204.0).tolist()
     [[0.800000011920929, 4.0]]
     """
-    return _metres64(depth, depth_units, inverse_scale).astype(np.float32)
-
-
-def _metres64(depth: np.ndarray, depth_units: float | None, inverse_scale: float | None) -> np.ndarray:
-    """:func:`depth_to_metres` in float64 (for geometry that must not lose precision)."""
-    kind, value = _conversion(depth_units, inverse_scale)
-    d = as_depth(depth, "depth").astype(np.float64)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return d * value if kind == "distance" else value / d
+    return metres64(depth, depth_units, inverse_scale).astype(np.float32)
 
 
 def metres_to_depth(
@@ -108,7 +81,7 @@ def metres_to_depth(
     >>> metres_to_depth(np.array([1.5, np.nan]), depth_units=0.001).tolist()
     [1500.0, nan]
     """
-    kind, value = _conversion(depth_units, inverse_scale)
+    kind, value = depth_conversion(depth_units, inverse_scale)
     z = np.asarray(z, dtype=np.float64)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = z / value if kind == "distance" else value / z
