@@ -14,7 +14,7 @@ _EXPORTS = {
                  "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
     "._params": ("read_mapping", "read_patch_layout"),
     "._intermediates": ("write_intermediates",),
-    "._camera": ("ChainSettings", "read_camera", "read_chain_settings", "read_rig", "write_camera",
+    "._camera": ("ChainSettings", "read_camera", "read_chain_settings", "read_depth_units", "read_rig", "write_camera",
                  "write_chain_settings", "write_rig"),
     "._board": ("PAPER_SIZES_MM", "write_board_pdf", "write_board_png"),
     "._calibration": ("read_calibration",),

@@ -32,7 +32,7 @@ _EXPORTS = {
                "shift_misregistration"),
     ".reproject": ("reproject_camera", "align_reproject"),
     ".pointcloud": ("depth_to_metres", "metres_to_depth", "pixel_rays", "backproject", "project_points",
-                    "depth_to_points"),
+                    "depth_to_points", "color_grid_points"),
     ".chain": ("ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair"),
 }
 __all__ = [name for names in _EXPORTS.values() for name in names]

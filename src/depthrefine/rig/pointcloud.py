@@ -39,6 +39,7 @@ __all__ = [
     "backproject",
     "project_points",
     "depth_to_points",
+    "color_grid_points",
 ]
 
 _UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-10)
@@ -247,6 +248,64 @@ def depth_to_points(
         colors = np.ascontiguousarray(colors[rows[keep], cols[keep]])
     return points, colors
 
+
+
+def color_grid_points(
+    depth: np.ndarray,
+    rgb: np.ndarray,
+    camera: CameraModel,
+    *,
+    depth_units: float | None = None,
+    inverse_scale: float | None = None,
+    raw_grid: bool = False,
+    color_undistorted: bool = False,
+    stride: int = 1,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The colored point cloud of a depth map on a color camera's grid (``depthrefine export-ply``).
+
+    Parameters
+    ----------
+    depth : (rows, cols) ndarray
+        Depth on the color camera's grid, any units (e.g. the output of ``run``).
+    rgb : (rows, cols, 3) ndarray
+        The color image: raw, unless ``color_undistorted``.
+    camera : CameraModel
+        The color camera.
+    depth_units, inverse_scale : float
+        Exactly one (see the module docstring).
+    raw_grid : bool
+        ``depth`` and ``rgb`` lie on the raw (distorted) grid: back-project
+        through the lens distortion. Default: ``depth`` lies on the
+        undistorted grid, as ``align`` and ``run`` write it, and ``rgb`` is
+        undistorted to match (for a camera with distortion).
+    color_undistorted : bool
+        ``rgb`` is undistorted already (with the default ``raw_grid=False``).
+    stride : int
+        Keep every ``stride``-th row and column.
+
+    Returns
+    -------
+    points : (N, 3) float32 ndarray
+        Metres in the color camera's frame: X right, Y down, Z forward.
+    colors : (N, 3) uint8 ndarray
+
+    Examples
+    --------
+    >>> cam = CameraModel(np.array([[10., 0, 1.5], [0, 10., 1.5], [0, 0, 1]]), np.zeros(5), (4, 4))
+    >>> pts, colors = color_grid_points(np.full((4, 4), 2000, np.uint16), np.zeros((4, 4, 3), np.uint8), cam,
+    ...                                 depth_units=0.001)
+    >>> pts.shape, colors.shape
+    ((16, 3), (16, 3))
+    """
+    distorted = camera.has_distortion and raw_grid
+    if camera.has_distortion and not raw_grid:
+        if not color_undistorted:
+            from .undistort import undistort_image
+
+            rgb = undistort_image(rgb, camera)
+        camera = camera.without_distortion()
+    return depth_to_points(depth, camera, rgb=rgb, depth_units=depth_units, inverse_scale=inverse_scale,
+                           distorted=distorted, stride=stride)
 
 def _to_uint8(rgb: np.ndarray) -> np.ndarray:
     if rgb.dtype == np.uint8:
