@@ -28,7 +28,6 @@ from __future__ import annotations
 import numpy as np
 
 from .._lazy import cv2
-from .._validate import as_depth
 from ._geometry import depth_conversion, metres64
 from .camera import CameraModel
 
