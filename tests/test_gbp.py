@@ -376,7 +376,7 @@ def test_flat_colored_point_sampled_scenes_with_a_noisy_guide_beat_interpolation
     ({"iterations": 0}, ValueError), ({"lambda_lr": -1.0}, ValueError), ({"trust": "yes"}, TypeError),
     ({"trust": 1}, TypeError), ({"sigma_color": 0.0}, ValueError), ({"flat_lambda_lr": float("inf")}, ValueError),
     ({"guide_smoothing": -1.0}, ValueError),
-    ({"trust_radius": 1.5}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
+    ({"snap_edges": "yes"}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
 ])
 def test_params_are_checked(bad, error):
     with pytest.raises(error):
@@ -544,3 +544,22 @@ def test_a_depth_step_the_guide_does_not_show_stays_sharp():
     assert rmse(with_gradients, gt) < 0.6 * min(rmse(color_only, gt), rmse(bicubic, gt))   # 2.64 vs 5.29 / 5.50
     # the jump between two neighbours is most of the step
     assert np.diff(with_gradients[:, 26:34], axis=1).max() > 0.5 * 60
+
+
+def test_snap_edges_moves_a_fattened_jump_onto_the_color_edge():
+    """A near surface (40) spilling 6 px over a far one (200), as a direct-ToF pixel reports it; the color edge is
+    at column 29: with ``snap_edges`` the output's jump lands on it in every row, without it stays where the input
+    put it; on a guide without an edge nothing moves."""
+    rows, cols, s, edge_col = 48, 64, 4, 29
+    rgb = np.zeros((rows, cols, 3), np.uint8)
+    rgb[:, edge_col:] = 255
+    fattened = np.where(np.arange(cols)[None, :] < edge_col + 6, 40.0, 200.0).repeat(rows, axis=0).astype(np.float32)
+    depth_lr = _area(fattened, s)
+    plain = upsample_gbp(depth_lr, rgb)
+    snapped = upsample_gbp(depth_lr, rgb, params=GbpParams(snap_edges=True))
+    crossing = lambda out: (out < 120).sum(axis=1)            # columns on the near side, per row
+    assert (crossing(plain) >= edge_col + 3).all()             # the input's displaced jump
+    assert (np.abs(crossing(snapped) - edge_col) <= 1).all()   # on the color edge
+    flat = np.full_like(rgb, 128)
+    np.testing.assert_array_equal(upsample_gbp(depth_lr, flat, params=GbpParams(snap_edges=True)),
+                                  upsample_gbp(depth_lr, flat))

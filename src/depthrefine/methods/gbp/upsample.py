@@ -11,6 +11,7 @@ from ..._validate import as_depth, check_rgb, guide_uint8
 from .measure import InputMeasures, measure_input
 from .params import GbpParams
 from .solve import GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, resize
+from .edges import snap_edges
 from .trust import blend_fallback, measured_trust
 
 __all__ = ["upsample_gbp", "upsample_gbp_stateful"]
@@ -27,7 +28,8 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     3. back-project: ``iterations`` rounds of residual correction and edge-aware smoothing;
     4. blend in a stronger color-guided smoother where the input shows no depth edge;
     5. check the guide against the input one octave down and fall back to
-       clipped bicubic interpolation where its detail is not confirmed.
+       clipped bicubic interpolation where its detail is not confirmed;
+    6. with ``snap_edges``, move each large depth jump onto the color edge.
 
     Parameters
     ----------
@@ -73,6 +75,8 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     if p.trust:                                                                # 5
         clip_to_bounds(result, bounds)
         result = blend_fallback(result, measured_trust(measures, guide, p), measures)
+    if p.snap_edges:                                                           # 6
+        result = snap_edges(result, measures, solver)
     if progress is not None:
         progress(p.iterations + 1, p.iterations + 1)
     return result.astype(np.float32, copy=False), measures
