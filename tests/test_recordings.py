@@ -189,6 +189,15 @@ def test_mkv_depth_at_30_color_at_15_leaves_depth_frames_unpaired(tmp_path):
         assert np.array_equal(d, depth[[0, 67, 133].index(frame.stamp_ns // 1_000_000) * 2])
 
 
+def test_streams_that_never_meet_are_one_line(tmp_path, capsys):
+    mkv = write_mkv(tmp_path / "apart.mkv", depth_frames=[_depth(0, (12, 16))], color_frames=[_color(0, (24, 32))],
+                    depth_ms=[0], color_ms=[500], start_offset_ns=0)
+    assert main(["batch", str(mkv), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "no depth frame on DEPTH track has a color frame on COLOR track within " \
+        "20 ms (depth stamps 0.000 to 0.000 s, color 0.500 to 0.500 s); raise --max-dt" in err
+
+
 def test_mkv_depth_delay_pairs_depth_with_the_earlier_color_frame(tmp_path):
     # Depth captured 15 ms after color (k4arecorder --depth-delay 15000): nearest stamps would pick the next color.
     depth = [_depth(i, (12, 16)) for i in range(3)]

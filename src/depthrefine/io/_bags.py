@@ -131,8 +131,9 @@ def open_bag(p: Path, kind: str, depth_topic: str | None, color_topic: str | Non
         raise
     except Exception as exc:  # noqa: BLE001 - any failure of the bag reader is a bad bag
         raise InputFileError(f"ROS bag {p} cannot be read ({type(exc).__name__}: {exc}).") from None
-    if not stamps[depth_topic]:
-        raise InputFileError(f"ROS bag {p}: topic {depth_topic} holds no messages; nothing to refine.")
+    for topic in (depth_topic, color_topic):
+        if not stamps[topic]:
+            raise InputFileError(f"ROS bag {p}: topic {topic} holds no messages; nothing to refine.")
     encoding = str(getattr(first_depth, "encoding", "")).lower()
     suffix = ".tif" if encoding in ("32fc1", "64fc1") else ".png"
     try:

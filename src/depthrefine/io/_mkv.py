@@ -128,11 +128,16 @@ def open_mkv(p: Path, max_dt: float) -> Sequence:
                              "truncated or damaged.") from None
     finally:
         container.close()
-    if not stamps["depth"]:
-        raise InputFileError(f"Azure Kinect recording {p}: the DEPTH track holds no frames; nothing to refine.")
+    for role in ("depth", "color"):
+        if not stamps[role]:
+            raise InputFileError(f"Azure Kinect recording {p}: the {role.upper()} track holds no frames; nothing to "
+                                 "refine.")
     # The recorder's depth delay: a depth frame belongs with the color frame `delay` ns before it.
-    frames, unpaired = pair_streams(stamps["depth"], stamps["color"], max_dt, names=("DEPTH track", "COLOR track"),
-                                    suffix=".png", color_shift_ns=delay)
+    try:
+        frames, unpaired = pair_streams(stamps["depth"], stamps["color"], max_dt, names=("DEPTH track", "COLOR track"),
+                                        suffix=".png", color_shift_ns=delay)
+    except InputFileError as exc:
+        raise InputFileError(f"Azure Kinect recording {p}: {exc}") from None
     return Sequence(p, "k4a", frames, topics={"depth": "DEPTH", "color": f"COLOR ({fmt})"}, depth_units=0.001,
                     frame_rate=rate or frame_rate_of([t for t, _ in stamps["depth"]]), unpaired=unpaired, raw=True,
                     reader=_load_mkv, **rig_kwargs)

@@ -378,8 +378,9 @@ def pair_streams(
     depth = sorted(depth, key=lambda item: item[0])
     color = sorted(color, key=lambda item: item[0])
     max_ns = int(round(max_dt * 1e9))
+    depth_t = [t for t, _ in depth]
     color_t = [t + color_shift_ns for t, _ in color]
-    pairs = _pair_nearest([t for t, _ in depth], color_t, max_ns)
+    pairs = _pair_nearest(depth_t, color_t, max_ns)
     window = f"{max_dt * 1000:g} ms"
     frames, unpaired = [], []
     for i, (t, ref) in enumerate(depth):
@@ -393,7 +394,6 @@ def pair_streams(
         tc, cref = color[j]
         frames.append(Frame(str(t), f"{names[0]} @ {t}", f"{names[1]} @ {tc}", suffix, None, ref, cref, int(t)))
     used = set(pairs.values())
-    depth_t = [t for t, _ in depth]
     for j, (tc, _) in enumerate(color):
         if j not in used:
             near = _within(depth_t, color_t[j], max_ns)
@@ -401,6 +401,11 @@ def pair_streams(
                    f"the depth frames within {window} are paired with nearer color frames")
             unpaired.append({"stream": "color", "stamp_ns": int(tc), "why": why})
     unpaired.sort(key=lambda u: (u["stamp_ns"], u["stream"]))
+    if depth and color and not frames:
+        span = lambda ts: f"{min(ts) / 1e9:.3f} to {max(ts) / 1e9:.3f} s"  # noqa: E731
+        raise InputFileError(f"no depth frame on {names[0]} has a color frame on {names[1]} within {window} (depth "
+                             f"stamps {span(depth_t)}, color {span(color_t)}); raise --max-dt, or check that both "
+                             "streams use the same clock.")
     keys = [f.key for f in frames]
     if len(set(keys)) != len(keys):
         raise InputFileError(f"two depth frames on {names[0]} have the same time stamp; their outputs would "
