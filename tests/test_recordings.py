@@ -297,6 +297,8 @@ def _store(ros1: bool):
     store = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
     store.register(get_types_from_msg("uint32 fps\nstring encoding\nbool is_recommended",
                                       "realsense_msgs/msg/StreamInfo"))
+    if "tf2_msgs/msg/TFMessage" not in store.types:  # not in rosbags' ROS 1 store
+        store.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms", "tf2_msgs/msg/TFMessage"))
     return store
 
 
@@ -363,10 +365,10 @@ D_COLOR = [0.05, -0.02, 0.001, -0.0005, 0.003]
 OPTICAL = Rotation.from_euler("ZX", [-90, -90], degrees=True).as_quat()  # x, y, z, w: camera_link -> optical
 
 
-def write_ros2_camera_bag(path: Path, *, depth_info=True, mcap=False, n_depth=6) -> list[int]:
+def write_camera_bag(path: Path, *, depth_info=True, mcap=False, n_depth=6, ros1=False) -> list[int]:
     """/camera/depth (16UC1, 30 fps) and /camera/color (rgb8, 15 fps), their camera_info and /tf_static."""
     stamps = []
-    with BagWriter(path, ros1=False, mcap=mcap) as bag:
+    with BagWriter(path, ros1=ros1, mcap=mcap) as bag:
         tf = []
         for parent, child, xyz, q in (("camera_link", "camera_depth_frame", (0, 0, 0), (0, 0, 0, 1)),
                                       ("camera_depth_frame", "camera_depth_optical_frame", (0, 0, 0), OPTICAL),
@@ -396,12 +398,13 @@ def _pose(xyz, q) -> np.ndarray:
     return T
 
 
-def test_ros2_bag_topics_camera_info_and_tf_static_give_the_rig(tmp_path):
-    bag = tmp_path / "cam"
-    stamps = write_ros2_camera_bag(bag)
+@pytest.mark.parametrize("ros1", [False, True], ids=["ros2", "ros1"])
+def test_bag_topics_camera_info_and_tf_static_give_the_rig(tmp_path, ros1):
+    bag = tmp_path / ("cam.bag" if ros1 else "cam")
+    stamps = write_camera_bag(bag, ros1=ros1)
     seq = open_sequence(bag)  # no topic options: one depth-like and one color-like topic
     assert seq.topics == {"depth": "/camera/depth/image_rect_raw", "color": "/camera/color/image_raw"}
-    assert seq.kind == "ros2" and seq.raw and seq.depth_units == 0.001 and seq.frame_rate == 30.0
+    assert seq.kind == ("ros1" if ros1 else "ros2") and seq.raw and seq.depth_units == 0.001 and seq.frame_rate == 30.0
     assert [f.stamp_ns for f in seq.frames] == stamps[::2]
     assert [u["stamp_ns"] for u in seq.unpaired] == stamps[1::2] and {u["stream"] for u in seq.unpaired} == {"depth"}
     # expected extrinsics from the same tree, chained with 4x4 matrices
@@ -419,7 +422,7 @@ def test_ros2_bag_topics_camera_info_and_tf_static_give_the_rig(tmp_path):
 
 def test_a_bag_without_camera_info_for_the_depth_topic_needs_a_rig_file(tmp_path):
     bag = tmp_path / "nodepthinfo"
-    write_ros2_camera_bag(bag, depth_info=False, n_depth=2)
+    write_camera_bag(bag, depth_info=False, n_depth=2)
     seq = open_sequence(bag)
     assert seq.rig is None and seq.raw
     with pytest.raises(InputFileError) as err:
@@ -430,7 +433,7 @@ def test_a_bag_without_camera_info_for_the_depth_topic_needs_a_rig_file(tmp_path
 
 def test_a_bare_mcap_file_without_metadata_yaml(tmp_path):
     folder = tmp_path / "rec"
-    stamps = write_ros2_camera_bag(folder, mcap=True, n_depth=2)
+    stamps = write_camera_bag(folder, mcap=True, n_depth=2)
     mcap = next(folder.glob("*.mcap"))
     bare = tmp_path / "bare.mcap"
     mcap.rename(bare)
@@ -513,6 +516,17 @@ def test_realsense_recording_without_topic_options(tmp_path):
     for i, (frame, (d, rgb)) in enumerate(seq.load(seq.frames)):
         assert d.dtype == np.uint16 and np.array_equal(d, _depth(i, (48, 64)))
         assert np.array_equal(rgb, _color(i, (96, 128)))
+
+
+def test_realsense_lens_models():
+    from depthrefine.rig.formats import camera_from_realsense
+
+    info = {"width": 64, "height": 48, "K": np.ravel(K_COLOR), "D": D_COLOR}
+    assert np.array_equal(camera_from_realsense({**info, "distortion_model": "Brown Conrady"}).dist, D_COLOR)
+    assert not camera_from_realsense({**info, "D": [0.0] * 5, "distortion_model": "Inverse Brown Conrady"}) \
+        .has_distortion
+    with pytest.raises(ValueError, match="lens model 'Inverse Brown Conrady' with coefficients .* is not OpenCV's"):
+        camera_from_realsense({**info, "distortion_model": "Inverse Brown Conrady"})
 
 
 def test_realsense_recording_without_camera_info(tmp_path):
