@@ -9,7 +9,8 @@ Two inputs, both from the shared recording ``../shared/data/real_tof/azure_kinec
   30 fps (its packets copied with PyAV, tracks and tags as in the original):
   ``open_sequence`` once, then ``load`` of every frame in one pass.
 
-Prints medians of ``--repeats`` runs. Usage::
+Prints medians of ``--repeats`` runs: wall time, and the process's CPU time (what the reading
+costs on a machine shared with other work). Usage::
 
     python benchmarks/bench_readers.py [--frames 90] [--repeats 5]
 """
@@ -66,10 +67,15 @@ def repeat_recording(source: Path, target: Path, frames: int, fps: int = 30) -> 
     return target
 
 
-def _time(fn) -> float:
-    t0 = time.perf_counter()
+def _time(fn) -> tuple[float, float]:
+    """Wall and CPU seconds of ``fn()``."""
+    t0, c0 = time.perf_counter(), time.process_time()
     fn()
-    return time.perf_counter() - t0
+    return time.perf_counter() - t0, time.process_time() - c0
+
+
+def _median(runs: list[tuple[float, float]]) -> tuple[float, float]:
+    return statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -87,8 +93,10 @@ def main(argv: list[str] | None = None) -> int:
     loads = [_time(lambda: list(seq.load(seq.frames))) for _ in range(args.repeats * 4)]
     print(f"{SHARED.name}: {len(seq.frames)} frame, {seq.describe()['topics']}, depth units {seq.depth_units}, "
           f"{seq.frame_rate:g} fps")
-    print(f"  open_sequence {statistics.median(opens) * 1000:.1f} ms; load of its frame "
-          f"{statistics.median(loads) * 1000:.1f} ms ({1 / statistics.median(loads):.1f} frames/s)")
+    (open_wall, open_cpu), (load_wall, load_cpu) = _median(opens), _median(loads)
+    print(f"  open_sequence {open_wall * 1000:.1f} ms wall, {open_cpu * 1000:.1f} ms CPU; load of its frame "
+          f"{load_wall * 1000:.1f} ms wall ({1 / load_wall:.1f} frames/s), {load_cpu * 1000:.1f} ms CPU "
+          f"({1 / load_cpu:.1f} frames/s)")
     with tempfile.TemporaryDirectory() as tmp:
         long = repeat_recording(SHARED, Path(tmp) / "long.mkv", args.frames)
         opens, reads = [], []
@@ -97,10 +105,11 @@ def main(argv: list[str] | None = None) -> int:
             seq = open_sequence(long)
             reads.append(_time(lambda: [data for _, data in seq.load(seq.frames)]))
         assert len(seq.frames) == args.frames and not seq.unpaired
-        rate = args.frames / statistics.median(reads)
+        (open_wall, open_cpu), (read_wall, read_cpu) = _median(opens), _median(reads)
         print(f"repeated recording ({args.frames} frames at 30 fps, {long.stat().st_size / 1e6:.1f} MB): "
-              f"open_sequence {statistics.median(opens) * 1000:.1f} ms; load of every frame "
-              f"{statistics.median(reads):.2f} s = {rate:.1f} frames/s (depth 640x576 + MJPEG 1280x720 decoded)")
+              f"open_sequence {open_wall * 1000:.1f} ms wall, {open_cpu * 1000:.1f} ms CPU; load of every frame "
+              f"(depth 640x576 + MJPEG 1280x720 decoded) {read_wall:.2f} s wall = {args.frames / read_wall:.1f} "
+              f"frames/s, {read_cpu:.2f} s CPU = {args.frames / read_cpu:.1f} frames/s")
     return 0
 
 
