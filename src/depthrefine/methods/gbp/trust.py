@@ -25,8 +25,9 @@ if TYPE_CHECKING:
 
 __all__ = ["guide_trust", "measured_trust", "blend_fallback"]
 
-#: Half-size, depth pixels, of the regions over which the guide's trust is fitted (2 and 8 scored within 1 %).
-TRUST_RADIUS = 4
+#: Half-size, depth pixels, of the regions over which the guide's trust is fitted (tuning mean 2.4048 / 2.3947 /
+#: 2.3899 for 2 / 4 / 8).
+TRUST_RADIUS = 8
 #: The prior "trust the guide" of each region's fit, as a guided detail of this many levels of the depth range:
 #: where the detail is much weaker, the fit is noise and the guide is trusted.
 TRUST_PRIOR = 1.0

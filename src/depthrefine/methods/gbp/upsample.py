@@ -10,7 +10,8 @@ import numpy as np
 from ..._validate import as_depth, check_rgb, guide_uint8
 from .measure import InputMeasures, measure_input
 from .params import GbpParams
-from .solve import GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, resize
+from . import solve
+from .solve import back_project, clip_to_bounds, flat_blend, local_bounds, make_solver
 from .edges import snap_edges
 from .trust import blend_fallback, measured_trust
 
@@ -68,7 +69,7 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     if not isinstance(p, GbpParams):
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
     measures = measure_input(depth, guide)                                     # 1
-    solver = make_solver(guide, measures, p, GUIDE_NOISE)
+    solver = make_solver(guide, measures, p, solve.GUIDE_NOISE)
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
     result = flat_blend(result, measures, solver, p)                           # 4
@@ -136,7 +137,7 @@ def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: G
     if state is not None and state.get("shape") == shape:
         tolerance = WARM_SIGMAS * m.sigma if m.sigma > 0 else 1e-6 * m.span
         steady = valid3 & state["valid3"] & (np.abs(mean3 - state["mean3"]) <= tolerance)
-        changed = resize((~steady).astype(np.uint8), result.shape, cv2.INTER_NEAREST) > 0
+        changed = solve.resize((~steady).astype(np.uint8), result.shape, cv2.INTER_NEAREST) > 0
         # the guide moved (an edge the result follows) although the input did not: start afresh there too,
         # as far as the solve's reach (one input pixel)
         guide_tolerance = WARM_SIGMAS * m.guide_noise / 3.0 * math.sqrt(2.0) + 1.0
