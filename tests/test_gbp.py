@@ -193,8 +193,8 @@ def test_the_guide_trust_undoes_the_harm_of_a_structured_texture(rng, name):
     """Strong texture edges over a smooth surface: the guided estimate copies them; the trust takes them back.
 
     Measured (RMSE, levels): checkerboard 1.50 without the trust, 0.1628 with it, bicubic 0.1628; stripes
-    0.75 / 0.1628 / 0.1628. The trust is zero away from depth jumps of the input (``jump_levels``), and the
-    fallback there is the bicubic enlargement of the input itself, as its noise is zero.
+    0.75 / 0.1628 / 0.1628. The trust is zero away from depth jumps of the input (``measure.JUMP_LEVELS``), and
+    the fallback there is the bicubic enlargement of the input itself, as its noise is zero.
     """
     smooth, textures = _smooth_and_textures(rng)
     depth_lr, texture = _area(smooth, 4), textures[name]
@@ -237,10 +237,11 @@ def test_no_overshoot_beyond_the_input_around_a_large_jump(color_edge):
     """A wall (1000) and a near object (270) with a weak color edge, on the jump or up to one input pixel off: the
     guided solve overshoots both surfaces next to the jump; clipped to the range of the valid input pixels around
     each pixel (before the guide trust, and in every round) it stays between them, and is never worse.
-    Measured (RMSE over the middle rows, without any clip -> ``local_range`` alone -> both, the default; bicubic
-    42.47): edge at column 44 39.99 -> 39.96 -> 39.88, 46 91.04 -> 48.92 -> 45.74, 48 (on the jump) 0.92 -> 0.007
-    -> 0.038, 52 38.60 -> 38.53 -> 38.05; without a clip the result reached 1018.8 / 1551.7 / 1006.7 / 1014.6.
-    (Before ``clip_rounds`` also clipped the residual and the check estimate: both 39.46, 47.10, 0.027, 38.37;
+    Measured (RMSE over the middle rows, without any clip -> the clip before the guide trust alone -> both, the
+    default; bicubic 42.47): edge at column 44 39.99 -> 39.96 -> 39.88, 46 91.04 -> 48.92 -> 45.74, 48 (on the
+    jump) 0.92 -> 0.007 -> 0.038, 52 38.60 -> 38.53 -> 38.05; without a clip the result reached 1018.8 / 1551.7 /
+    1006.7 / 1014.6.
+    (Before the rounds also clipped after the residual and in the check estimate: both 39.46, 47.10, 0.027, 38.37;
     clipping the last round's residual too: 41.51 at column 44, worse than no clip. With bicubic residuals and no
     guide smoothing, before those defaults: 39.77 -> 39.75 -> 39.36, 91.17 -> 46.61 -> 46.15, 0.44 -> 0.00 ->
     0.00, 38.44 -> 38.39 -> 38.24.)
@@ -376,7 +377,7 @@ def test_flat_colored_point_sampled_scenes_with_a_noisy_guide_beat_interpolation
     ({"iterations": 0}, ValueError), ({"lambda_lr": -1.0}, ValueError), ({"trust": "yes"}, TypeError),
     ({"trust": 1}, TypeError), ({"sigma_color": 0.0}, ValueError), ({"flat_lambda_lr": float("inf")}, ValueError),
     ({"guide_smoothing": -1.0}, ValueError),
-    ({"trust_radius": 1.5}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
+    ({"snap_edges": "yes"}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
 ])
 def test_params_are_checked(bad, error):
     with pytest.raises(error):
@@ -544,3 +545,22 @@ def test_a_depth_step_the_guide_does_not_show_stays_sharp():
     assert rmse(with_gradients, gt) < 0.6 * min(rmse(color_only, gt), rmse(bicubic, gt))   # 2.64 vs 5.29 / 5.50
     # the jump between two neighbours is most of the step
     assert np.diff(with_gradients[:, 26:34], axis=1).max() > 0.5 * 60
+
+
+def test_snap_edges_moves_a_fattened_jump_onto_the_color_edge():
+    """A near surface (40) spilling 6 px over a far one (200), as a direct-ToF pixel reports it; the color edge is
+    at column 29: with ``snap_edges`` the output's jump lands on it in every row, without it stays where the input
+    put it; on a guide without an edge nothing moves."""
+    rows, cols, s, edge_col = 48, 64, 4, 29
+    rgb = np.zeros((rows, cols, 3), np.uint8)
+    rgb[:, edge_col:] = 255
+    fattened = np.where(np.arange(cols)[None, :] < edge_col + 6, 40.0, 200.0).repeat(rows, axis=0).astype(np.float32)
+    depth_lr = _area(fattened, s)
+    plain = upsample_gbp(depth_lr, rgb)
+    snapped = upsample_gbp(depth_lr, rgb, params=GbpParams(snap_edges=True))
+    crossing = lambda out: (out < 120).sum(axis=1)            # columns on the near side, per row
+    assert (crossing(plain) >= edge_col + 3).all()             # the input's displaced jump
+    assert (np.abs(crossing(snapped) - edge_col) <= 1).all()   # on the color edge
+    flat = np.full_like(rgb, 128)
+    np.testing.assert_array_equal(upsample_gbp(depth_lr, flat, params=GbpParams(snap_edges=True)),
+                                  upsample_gbp(depth_lr, flat))
