@@ -37,7 +37,7 @@ from depthrefine import ThesisParams, cli
 from depthrefine import _validate
 from depthrefine.io import _images as images
 from depthrefine.io import read_depth, read_mapping, read_patch_layout, read_rgb, sample_folder
-from depthrefine.methods.thesis.params import params_from_mapping
+from depthrefine.methods.params import params_from_mapping
 
 # ----------------------------------------------------------------------------
 # The scene every case starts from: 16 x 20 depth, 64 x 80 color (x4)
