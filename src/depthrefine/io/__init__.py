@@ -9,7 +9,8 @@ from .._lazy import lazy_exports
 #: The public names by module, each imported on first use (PEP 562), so that the command line can
 #: read :mod:`._names` without importing the readers (fast start-up).
 _EXPORTS = {
-    "._files": ("InputFileError", "atomic_directory", "atomic_write", "check_output", "check_output_dir"),
+    "._files": ("InputFileError", "atomic_directory", "atomic_write", "check_distinct_inputs", "check_output",
+                "check_output_dir"),
     "._images": ("DEPTH_SUFFIXES", "check_depth_format", "depth_to_dtype", "image_shape", "read_depth", "read_rgb",
                  "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
     "._params": ("read_mapping", "read_patch_layout"),
