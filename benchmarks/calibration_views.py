@@ -12,10 +12,12 @@ and V: the median and the 90th percentile over the trials of the largest
 disagreement in the image, and of its median. These are the figures behind
 ``depthrefine.rig.RECOMMENDED_VIEWS`` (docs/rig.md).
 
-The lenses: ``plain`` (k1, k2, p1, p2; k3 fixed at 0) a 640x480 camera with
-the barrel distortion of a ToF camera; ``k3`` the same lens with k3 fitted;
-``rational`` (8 coefficients) the Azure Kinect color camera's upstream
-30-view fit (4096x3072, ``real_tof/azure_kinect_charuco/calibration/calib.yml``).
+All three models are fitted on one 640x480 image and one ChArUco board of
+13x8 inner corners (partial views), so that only the lens differs: ``plain``
+(k1, k2, p1, p2; k3 fixed at 0) and ``k3`` (k3 fitted) a ToF camera's barrel
+lens; ``rational`` (8 coefficients) the Azure Kinect color camera's upstream
+30-view fit (``real_tof/azure_kinect_charuco/calibration/calib.yml``) scaled
+from 4096x3072 to 640x480.
 
 With ``--real DIR`` (``real_tof/azure_kinect_charuco/calibration``) the
 same comparison runs on real views: every subset of V of the 8 Azure Kinect
@@ -34,17 +36,22 @@ import argparse
 
 import numpy as np
 
+#: The Azure Kinect color camera's upstream 30-view fit (4096x3072, rational), scaled to 640x480.
+_KINECT = 640 / 4096
 #: The true lenses: (K, dist, (width, height), board inner corners (cols, rows), square metres, flags).
+#: All on one 640x480 image with one ChArUco board (13x8 inner corners, partial views), so that
+#: only the lens model differs.
 LENSES = {
     "plain": (np.array([[525.0, 0, 322.0], [0, 524.0, 243.0], [0, 0, 1]]),
-              np.array([-0.28, 0.09, 0.0012, -0.0008, 0.0]), (640, 480), (9, 6), 0.025,
+              np.array([-0.28, 0.09, 0.0012, -0.0008, 0.0]), (640, 480), (13, 8), 0.04,
               dict(estimate_k3=False, rational=False)),
     "k3": (np.array([[525.0, 0, 322.0], [0, 524.0, 243.0], [0, 0, 1]]),
-           np.array([-0.28, 0.09, 0.0012, -0.0008, -0.02]), (640, 480), (9, 6), 0.025,
+           np.array([-0.28, 0.09, 0.0012, -0.0008, -0.02]), (640, 480), (13, 8), 0.04,
            dict(estimate_k3=True, rational=False)),
-    "rational": (np.array([[1960.95, 0, 2053.05], [0, 1960.94, 1556.20], [0, 0, 1]]),
+    "rational": (np.array([[1960.95 * _KINECT, 0, (2053.05 + 0.5) * _KINECT - 0.5],
+                           [0, 1960.94 * _KINECT, (1556.20 + 0.5) * _KINECT - 0.5], [0, 0, 1]]),
                  np.array([-0.3199063, -2.3283483, 1.8335e-05, 4.8592e-05, 1.7688710, -0.4331594, -2.1051927,
-                           1.6538154]), (4096, 3072), (13, 8), 0.04,
+                           1.6538154]), (640, 480), (13, 8), 0.04,
                  dict(estimate_k3=False, rational=True)),
 }
 NOISE_PX = 0.25
@@ -160,7 +167,7 @@ def main() -> None:
             rng = np.random.default_rng([args.seed, count, len(model)])
             worst, typical, rms = [], [], []
             for _ in range(args.trials):
-                board, views = _views(rng, K, dist, size, grid, square, count, partial=model == "rational")
+                board, views = _views(rng, K, dist, size, grid, square, count, partial=True)
                 camera = calibrate_from_views(views, board=board, image_size=size, **flags)
                 d = disagreement(K, dist, camera.K, camera.dist, size)
                 worst.append(d.max())

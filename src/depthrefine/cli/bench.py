@@ -194,9 +194,24 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
     total = len(cases) * len(methods)
     rows = []
     figures: list[tuple[str, str]] = []
+    pending: list[tuple] = []  # the figure cases of the current protocol: drawn on one error scale
+
+    def draw_pending() -> None:
+        errors = [{m: report.error_map(d, c.depth_gt, border=c.border) for m, d in kept.items()}
+                  for c, kept, _ in pending]
+        error_max = report.error_scale(errors)
+        for case, kept, rmse in pending:
+            name = f"fig_{case.protocol}_{case.scene}_x{case.scale}.png"
+            report.scene_figure(case, kept, rmse=rmse, error_max=error_max).savefig(folder / name)
+            split = " (a tuning scene of the peers)" if case.split == "tune" else ""
+            figures.append((f"{case.protocol} · {case.scene} · ×{case.scale}{split}", name))
+        pending.clear()
+
     bar = tqdm(total=total, desc="bench", unit="run", disable=not sys.stderr.isatty(), leave=False)
     try:
         for case in cases:
+            if pending and pending[0][0].protocol != case.protocol:
+                draw_pending()
             bar.set_postfix_str(f"{case.protocol} {case.scene} x{case.scale}")
             offset = bar.n
             if case.protocol == PAIRS:
@@ -207,12 +222,9 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
                                    progress=lambda done, _total: bar.update(offset + done - bar.n))
             rows += result.rows
             if want:
-                name = f"fig_{case.protocol}_{case.scene}_x{case.scale}.png"
-                fig = report.scene_figure(case, result.kept[case.key],
-                                          rmse={r.method: r.rmse for r in result.rows})
-                fig.savefig(folder / name)
-                split = " (a tuning scene of the peers)" if case.split == "tune" else ""
-                figures.append((f"{case.protocol} · {case.scene} · ×{case.scale}{split}", name))
+                pending.append((case, result.kept[case.key], {r.method: r.rmse for r in result.rows}))
+        if pending:
+            draw_pending()
     finally:
         bar.close()
     if folder is not None:

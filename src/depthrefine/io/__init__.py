@@ -22,6 +22,8 @@ _EXPORTS = {
     "._sample": ("SAMPLE_SCALES", "SCENES", "RealCapture", "SampleScene", "load_capture", "load_sample",
                  "sample_folder"),
     "._sequences": ("Frame", "Sequence", "open_sequence"),
+    "._catalog": ("DATASETS", "DataSource", "Dataset", "get_dataset"),
+    "._fetch": ("DataProblem", "fetch_dataset", "file_sha256", "find_datasets", "verify_data", "verify_dataset"),
     "._datasets": ("DATASET_READERS", "REAL_TOF_CAPTURES", "TRIPLET_FOLDERS", "DatasetScene", "dataset_folder",
                    "read_dataset", "read_real_tof", "read_rgbd_pairs", "read_scene_folders", "read_triplets"),
 }
