@@ -13,7 +13,8 @@ disagreement in the image, and of its median. These are the figures behind
 ``depthrefine.rig.RECOMMENDED_VIEWS`` (docs/rig.md).
 
 All three models are fitted on one 640x480 image and one ChArUco board of
-13x8 inner corners (partial views), so that only the lens differs: ``plain``
+13x8 inner corners (partial views; ``--board checkerboard``: a 9x6
+checkerboard, whole in every view), so that only the lens differs: ``plain``
 (k1, k2, p1, p2; k3 fixed at 0) and ``k3`` (k3 fitted) a ToF camera's barrel
 lens; ``rational`` (8 coefficients) the Azure Kinect color camera's upstream
 30-view fit (``real_tof/azure_kinect_charuco/calibration/calib.yml``) scaled
@@ -26,7 +27,8 @@ from 30 views (``calib.yml``, rational), the reference.
 
 Usage::
 
-    python benchmarks/calibration_views.py [--trials 30] [--views 4,6,8,10,12,15,20,25,30] [--seed 0]
+    python benchmarks/calibration_views.py [--trials 100] [--views 4,6,8,10,12,15,20,25,30,40] [--seed 0]
+        [--board charuco|checkerboard]
     python benchmarks/calibration_views.py --real ../shared/data/real_tof/azure_kinect_charuco/calibration
 """
 
@@ -147,10 +149,13 @@ def main() -> None:
     from depthrefine.rig import calibrate_from_views
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--trials", type=int, default=30)
-    parser.add_argument("--views", default="4,6,8,10,12,15,20,25,30")
+    parser.add_argument("--trials", type=int, default=100)
+    parser.add_argument("--views", default="4,6,8,10,12,15,20,25,30,40")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--models", default=",".join(LENSES))
+    parser.add_argument("--board", choices=("charuco", "checkerboard"), default="charuco",
+                        help="charuco: 13x8 inner corners, partial views (default); checkerboard: 9x6 inner "
+                             "corners, every corner in every view")
     parser.add_argument("--real", metavar="DIR", help="the Azure Kinect ChArUco views and calib.yml instead")
     args = parser.parse_args()
     if args.real:
@@ -161,13 +166,15 @@ def main() -> None:
           f"{args.trials} trials, noise {NOISE_PX} px: median [90th percentile]")
     for model in args.models.split(","):
         K, dist, size, grid, square, flags = LENSES[model]
-        print(f"\n{model}: {size[0]}x{size[1]}, board {grid[0]}x{grid[1]} inner corners")
+        if args.board == "checkerboard":
+            grid, square = (9, 6), 0.025
+        print(f"\n{model}: {size[0]}x{size[1]}, {args.board} {grid[0]}x{grid[1]} inner corners")
         print(f"{'views':>5}  {'largest':>16}  {'median':>16}  {'fit RMS':>7}")
         for count in counts:
             rng = np.random.default_rng([args.seed, count, len(model)])
             worst, typical, rms = [], [], []
             for _ in range(args.trials):
-                board, views = _views(rng, K, dist, size, grid, square, count, partial=True)
+                board, views = _views(rng, K, dist, size, grid, square, count, partial=args.board == "charuco")
                 camera = calibrate_from_views(views, board=board, image_size=size, **flags)
                 d = disagreement(K, dist, camera.K, camera.dist, size)
                 worst.append(d.max())

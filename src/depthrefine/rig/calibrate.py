@@ -251,7 +251,8 @@ def calibrate_from_corners(
     if len(arrays) < MIN_VIEWS:
         raise ValueError(
             f"calibration needs the board in at least {MIN_VIEWS} images; got {len(arrays)}. "
-            "Take more views (10-20 covering the whole image are best)."
+            f"Take more views ({RECOMMENDED_VIEWS[lens_model(estimate_k3=estimate_k3, rational=rational)]} or more "
+            "covering the whole image for this lens model)."
         )
     for i, v in enumerate(arrays):
         if v.shape[0] != cols * rows:
