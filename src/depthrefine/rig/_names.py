@@ -63,7 +63,7 @@ LENS_MODELS = {
 #: lens moves by pixels from one set of views to the next. From
 #: ``benchmarks/calibration_views.py`` (simulated views) and the 8 real
 #: Azure Kinect views against their 30-view reference; see docs/rig.md.
-RECOMMENDED_VIEWS = {"plain": 15, "k3": 20, "rational": 15}
+RECOMMENDED_VIEWS = {"plain": 15, "k3": 20, "rational": 20}
 
 #: A fit whose RMS reprojection error is above this many pixels is refused
 #: (``calibrate --max-rms``): a board found in the wrong place, a wrong
