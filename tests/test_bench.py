@@ -107,7 +107,7 @@ def test_park_protocol_reproduces_the_readme_sanity_baseline(tmp_path):
 def test_middlebury30_protocol_reproduces_the_readme_sanity_baselines():
     # middlebury_lu30, 28 shared images: the README's 2.212 / 3.854 / 6.144 are without a border
     # crop; the protocol's 6-px crop gives 2.2257 / 3.8668 / 6.1046 (benchmarks/sanity_baselines.py, docs/bench.md).
-    cases = load_cases(_shared(), "middlebury30", (4, 8, 16))
+    cases = load_cases(_shared("middlebury_lu30"), "middlebury30", (4, 8, 16))
     for scale, readme, cropped in ((4, 2.212, 2.2257), (8, 3.854, 3.8668), (16, 6.144, 6.1046)):
         mine = [c for c in cases if c.scale == scale]
         assert len(mine) == 28 and all(c.border == LU_BORDER == 6 for c in mine)
