@@ -36,7 +36,7 @@ import depthrefine
 from depthrefine import ThesisParams, cli
 from depthrefine import _validate
 from depthrefine.io import _images as images
-from depthrefine.io import read_depth, read_mapping, read_patch_layout, read_rgb, sample_folder
+from depthrefine.io import fetch_dataset, read_depth, read_mapping, read_patch_layout, read_rgb, sample_folder
 from depthrefine.methods.params import params_from_mapping
 
 # ----------------------------------------------------------------------------
@@ -258,7 +258,9 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
                                             ["shape (4, 5, 2)", "one channel"]),
     "depth empty npy": lambda ws: _depth_case(ws, "none.npy", np.ones((0, 0), np.float32),
                                               ["is empty", "save the depth map again"]),
-    "depth is the color image": lambda ws: _depth_case(ws, "rgb.png", RGB, ["shape (64, 80, 3)", "Is this the color image?"]),
+    # another color image (the same bytes as COLOR are refused before reading: see "refine: DEPTH is COLOR")
+    "depth is the color image": lambda ws: _depth_case(ws, "rgb.png", RGB // 2,
+                                                       ["shape (64, 80, 3)", "Is this the color image?"]),
     "color not an image": lambda ws: _color_case(ws, "photo.jpg", b"\xff\xd8 definitely not a JPEG",
                                                  ["cannot be read", "save it again"]),
     "color truncated jpeg": lambda ws: _color_case(ws, "cut.jpg", _jpeg_bytes(RGB)[:700],
@@ -781,6 +783,21 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
     "board: unknown dictionary": lambda ws: Case(
         ["board", "--board", "charuco:5x7", "--square", "30mm", "--marker", "22mm", "--dictionary", "DICT_5X5",
          "-o", str(ws.out / "b.png")], ["--dictionary", "unknown ArUco dictionary 'DICT_5X5'"]),
+    # refine, show, run: DEPTH and COLOR must be two files (issue 24)
+    "refine: DEPTH is COLOR": lambda ws: Case(ws.refine(ws.color, ws.color), ["DEPTH and COLOR are the same file"]),
+    "refine: COLOR has DEPTH's bytes": lambda ws: Case(
+        ws.refine(ws.depth, ws.file("copy.png", ws.depth.read_bytes())), ["copy.png", "identical bytes"]),
+    "refine: --full without --preview": lambda ws: Case(ws.refine(None, None, "--full"), ["--full", "--preview PNG"]),
+    "show: crop outside the map": lambda ws: Case(
+        ["show", str(ws.depth), "-o", str(ws.out / "s.png"), "--crop", "0,0,1000,10"], ["--crop", "must lie inside"]),
+    # data
+    "data: verify a folder without data sets": lambda ws: Case(["data", "verify", str(ws.inputs)],
+                                                               [str(ws.inputs), "none of the data set folders"]),
+    "data: fetch a data set without an open licence": lambda ws: Case(
+        ["data", "fetch", "lu6", "--to", str(ws.out / "d")], ["lu6 is not downloaded", "no licence"],
+        lib=lambda: fetch_dataset("lu6", ws.out / "d")),
+    "data: unknown data set": lambda ws: Case(["data", "fetch", "nope", "--to", str(ws.out / "d")],
+                                              ["unknown data set 'nope'"]),
     # show
     "show: depth missing": lambda ws: Case(["show", str(ws.inputs / "none.png"), "-o", str(ws.out / "s.png")],
                                            ["none.png", "does not exist"]),

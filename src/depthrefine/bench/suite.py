@@ -138,10 +138,13 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
 
     With ``figures``, a case gets a figure when it is at x8 (else the largest
     scale) or, for the ``pairs`` protocol, among the first
-    :data:`MAX_PAIR_FIGURES`; its results are dropped once the figure is made.
-    ``progress(done, total, case)`` counts the (method, case) runs.
+    :data:`MAX_PAIR_FIGURES`. The figures of one protocol share one error
+    scale (:func:`~.figures.error_scale`), so they are drawn when the
+    protocol's last case is done and yielded then, with no rows; their
+    results are dropped once drawn. ``progress(done, total, case)`` counts
+    the (method, case) runs.
     """
-    from . import report
+    from . import figures as scene_figures
     from .runner import run_benchmark
 
     scales = {case.scale for case in cases}
@@ -149,7 +152,22 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
     total = len(cases) * len(methods)
     done_before = 0
     made = 0
+    pending: list[tuple] = []   # (case, results, rmse) of the current protocol's figures
+
+    def draw_pending() -> Iterator[tuple[list, CaseFigure]]:
+        errors = [{m: scene_figures.error_map(d, c.depth_gt, border=c.border) for m, d in kept.items()}
+                  for c, kept, _ in pending]
+        error_max = scene_figures.error_scale(errors)
+        for case, kept, rmse in pending:
+            split = " (a tuning scene of the peers)" if case.split == "tune" else ""
+            yield [], CaseFigure(f"fig_{case.protocol}_{case.scene}_x{case.scale}.png",
+                                 f"{case.protocol} · {case.scene} · ×{case.scale}{split}",
+                                 scene_figures.scene_figure(case, kept, rmse=rmse, error_max=error_max))
+        pending.clear()
+
     for case in cases:
+        if pending and pending[0][0].protocol != case.protocol:
+            yield from draw_pending()
         label = f"{case.protocol} {case.scene} x{case.scale}"
         if case.protocol == PAIRS:
             want = figures and made < MAX_PAIR_FIGURES
@@ -159,15 +177,12 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
         result = run_benchmark([case], methods, keep=(lambda c: want), progress=None if progress is None else (
             lambda done, _total: progress(offset + done, total, label)))
         done_before += len(methods)
-        figure = None
         if want:
             made += 1
-            split = " (a tuning scene of the peers)" if case.split == "tune" else ""
-            figure = CaseFigure(f"fig_{case.protocol}_{case.scene}_x{case.scale}.png",
-                                f"{case.protocol} · {case.scene} · ×{case.scale}{split}",
-                                report.scene_figure(case, result.kept[case.key],
-                                                    rmse={r.method: r.rmse for r in result.rows}))
-        yield result.rows, figure
+            pending.append((case, result.kept[case.key], {r.method: r.rmse for r in result.rows}))
+        yield result.rows, None
+    if pending:
+        yield from draw_pending()
 
 
 def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] = ()) -> list[str]:
@@ -183,10 +198,10 @@ def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] 
         "defaults.",
     ]
     if "gbp" in methods:
-        notes.append("gbp's defaults were chosen on the same tuning scenes, except hole_margin and local_range "
-                     "(picked with the realtof Kinect capture in view) and point_lambda (picked on generated "
-                     "point-sampled scenes; no benchmark input is point-sampled); the lu scores were seen while "
-                     "the defaults were explored; see docs/bench.md.")
+        notes.append("gbp's defaults were chosen on the same tuning scenes, except the local-range clip before the "
+                     "guide trust and its hole margin (picked with the realtof Kinect capture in view) and the "
+                     "point-sample smoothing (picked on generated point-sampled scenes; no benchmark input is "
+                     "point-sampled); the lu scores were seen while the defaults were explored; see docs/tuning.md.")
     if "lu" in present:
         notes.append("The tuning set was revised after the lu results had been seen (noise-free middlebury30 "
                      "scenes were added when the Park-only tuning oversmoothed lu at x16), so lu is not a clean "

@@ -7,7 +7,7 @@ import sys
 
 from . import CliError
 from ._common import add_depth_options, add_overwrite
-from ._rig_options import add_units_options
+from ._rig_options import add_units_options, warn_implausible_units
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -39,10 +39,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run_export_ply(args: argparse.Namespace) -> int:
-    from ..io import check_output, read_camera, read_depth, read_depth_units, read_rgb, write_ply
+    from ..io import check_distinct_inputs, check_output, read_camera, read_depth, read_depth_units, read_rgb, write_ply
     from ..rig.pointcloud import color_grid_points
 
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".ply",), inputs=(args.depth, args.color))
+    check_distinct_inputs(args.depth, args.color)
     if args.stride < 1:
         raise CliError(f"--stride must be >= 1; got {args.stride}.")
     depth_units, inverse_scale = args.depth_units, args.inverse_depth_scale
@@ -53,6 +54,7 @@ def run_export_ply(args: argparse.Namespace) -> int:
                        "depth intensity (larger = nearer), --inverse-depth-scale C with metres = C / value.")
     camera = read_camera(args.rig, which="color")
     depth = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
+    warn_implausible_units("export-ply", depth, depth_units=depth_units, inverse_scale=inverse_scale)
     rgb = read_rgb(args.color)
     if rgb.shape[:2] != camera.shape:
         raise CliError(f"COLOR is {rgb.shape[1]}x{rgb.shape[0]} but the color camera of {args.rig} was "

@@ -10,6 +10,7 @@ from pathlib import Path
 from .. import __version__
 from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
                       add_units_option, build_params, depth_units_label, output_depth, params_dict, progress_bar)
+from ._picture_options import add_preview_option, check_window, write_preview
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -29,8 +30,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_params_options(p)
     p.add_argument("--save-intermediate", metavar="DIR",
                    help="write the pictures of the intermediate steps (and the parameters) into DIR")
-    p.add_argument("--preview", metavar="PNG",
-                   help="also write a picture of the result (colorbar in --units) beside the color image")
+    add_preview_option(p)
     add_units_option(p)
     add_output_format_options(p)
     add_overwrite(p)
@@ -40,14 +40,15 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from .._validate import as_depth
-    from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_output, check_output_dir, read_depth,
-                      read_rgb, write_depth, write_figure, write_intermediates)
+    from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_distinct_inputs, check_output,
+                      check_output_dir, read_depth, read_rgb, write_depth, write_intermediates)
     from ..methods.registry import get_method, refine, refine_intermediates
     from ..methods.scale import plan_scale
     from ..viz import depth_figure
 
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES,
                        inputs=(args.depth, args.color))
+    check_distinct_inputs(args.depth, args.color)
     if args.save_intermediate:
         folder = Path(args.save_intermediate).resolve()
         if out.resolve() == folder:
@@ -65,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
     params = build_params(args)  # before reading the images: a bad parameter fails at once
     depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
+    check_window(args, rgb_hr.shape[:2])
     check_depth_format(out, args.output_dtype or depth_lr.dtype)
     step = plan_scale(depth_lr.shape, rgb_hr.shape)
     entry = get_method(args.method)
@@ -101,8 +103,7 @@ def run(args: argparse.Namespace) -> int:
     def write_outputs() -> None:
         written.append(write_depth(out, stored, dtype=dtype, overwrite=args.overwrite))
         if preview is not None:
-            fig = depth_figure(shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})")
-            written.append(write_figure(preview, fig, overwrite=args.overwrite))
+            written.append(write_preview(args, preview, shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})"))
 
     try:
         if args.save_intermediate:

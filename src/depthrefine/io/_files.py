@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import contextlib
+import filecmp
 import os
 import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable, Iterator
 
-__all__ = ["check_output", "check_output_dir", "atomic_write", "atomic_directory", "existing_input", "InputFileError"]
+__all__ = ["check_output", "check_output_dir", "check_distinct_inputs", "atomic_write", "atomic_directory",
+           "existing_input", "InputFileError"]
 
 
 class InputFileError(ValueError):
@@ -100,6 +102,27 @@ def check_output_dir(path: str | os.PathLike, *, overwrite: bool = False, what: 
     if not os.access(parent, os.W_OK) or (p.is_dir() and not os.access(p, os.W_OK)):
         raise InputFileError(f"{what} {p}: not writable; choose another folder.")
     return p
+
+
+def check_distinct_inputs(depth: str | os.PathLike, color: str | os.PathLike) -> None:
+    """Refuse the same file (path, link or identical bytes) given as both the depth map and the color image.
+
+    Raises
+    ------
+    InputFileError
+        ``depth`` and ``color`` are one file, or two files with the same bytes.
+    """
+    a, b = Path(depth), Path(color)
+    if _same_file(a, b) or (a.resolve() == b.resolve()):
+        raise InputFileError(f"DEPTH and COLOR are the same file ({a}); give the depth map first, then the "
+                             "color image.")
+    try:
+        same = a.is_file() and b.is_file() and filecmp.cmp(a, b, shallow=False)
+    except OSError:
+        return  # unreadable: the reader says so, naming the file
+    if same:
+        raise InputFileError(f"DEPTH {a} and COLOR {b} have identical bytes: one image was given twice; give the "
+                             "depth map first, then the color image.")
 
 
 def _same_file(a: Path, b: Path) -> bool:

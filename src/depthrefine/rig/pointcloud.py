@@ -25,6 +25,8 @@ the distance along the ray instead.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._lazy import cv2
@@ -32,6 +34,8 @@ from ._geometry import depth_conversion, metres64
 from .camera import CameraModel
 
 __all__ = [
+    "PLAUSIBLE_DEPTH_M",
+    "median_metres",
     "depth_to_metres",
     "metres_to_depth",
     "pixel_rays",
@@ -69,6 +73,28 @@ def depth_to_metres(
     [[0.800000011920929, 4.0]]
     """
     return metres64(depth, depth_units, inverse_scale).astype(np.float32)
+
+
+#: Median depths (metres) a ToF camera can report: outside, the depth units are likely wrong
+#: (millimetres read as metres give kilometres; metres read as millimetres, millimetres).
+PLAUSIBLE_DEPTH_M = (0.05, 50.0)
+
+
+def median_metres(depth: np.ndarray, *, depth_units: float | None = None,
+                  inverse_scale: float | None = None) -> float:
+    """The median of the valid depths in metres (NaN when no pixel is valid): a check of the units.
+
+    Compare it with :data:`PLAUSIBLE_DEPTH_M`.
+
+    Examples
+    --------
+    >>> d = np.array([[0, 900, 1500, 2000]], np.uint16)
+    >>> median_metres(d, depth_units=0.001), median_metres(d, depth_units=1.0)
+    (1.5, 1500.0)
+    """
+    metres = metres64(depth, depth_units, inverse_scale)
+    valid = metres[np.isfinite(metres) & (metres > 0)]
+    return float(np.median(valid)) if valid.size else math.nan
 
 
 def metres_to_depth(
