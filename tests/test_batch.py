@@ -492,9 +492,9 @@ def test_a_scheduler_without_workers_is_one_line(frames, tmp_path, capsys, monke
 
     from distributed import LocalCluster
 
-    import depthrefine.batch
+    import depthrefine.batch._schedule
 
-    monkeypatch.setattr(depthrefine.batch, "_WORKER_WAIT", 1)
+    monkeypatch.setattr(depthrefine.batch._schedule, "_WORKER_WAIT", 1)
     src = write_folder(tmp_path / "seq", frames[:1])
     with LocalCluster(n_workers=0, processes=False, protocol="tcp://", host="127.0.0.1", dashboard_address=":0",
                       silence_logs=logging.ERROR) as empty:

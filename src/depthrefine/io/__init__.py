@@ -21,6 +21,7 @@ _EXPORTS = {
     "._sample": ("SAMPLE_SCALES", "SCENES", "RealCapture", "SampleScene", "load_capture", "load_sample",
                  "sample_folder"),
     "._sequences": ("Frame", "Sequence", "open_sequence"),
+    "._video": ("VIDEO_SUFFIXES", "VideoWriter"),
     "._datasets": ("DATASET_READERS", "REAL_TOF_CAPTURES", "TRIPLET_FOLDERS", "DatasetScene", "dataset_folder",
                    "read_dataset", "read_real_tof", "read_rgbd_pairs", "read_scene_folders", "read_triplets"),
 }
