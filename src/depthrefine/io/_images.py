@@ -268,17 +268,19 @@ def read_depth(
 def depth_to_dtype(depth: np.ndarray, dtype: np.dtype | type) -> np.ndarray:
     """Convert a float depth map (NaN = invalid) to ``dtype`` for writing.
 
-    Integers: rounded, valid pixels clipped to ``[1, max]``, NaN -> 0.
-    Floats: NaN -> 0 (0 means no measurement in a file).
+    Integers: rounded, valid pixels clipped to ``[1, max]``; no measurement
+    (NaN, inf, 0 or negative) -> 0. Floats: no measurement -> 0 (0 means no
+    measurement in a file).
 
     Examples
     --------
-    >>> depth_to_dtype(np.array([np.nan, 0.2, 7.6, 300.0], np.float32), np.uint8).tolist()
-    [0, 1, 8, 255]
+    >>> depth_to_dtype(np.array([np.nan, 0.2, 7.6, 300.0, 0.0], np.float32), np.uint8).tolist()
+    [0, 1, 8, 255, 0]
     """
     dtype = np.dtype(dtype)
     depth = np.asarray(depth, dtype=np.float64)
-    invalid = ~np.isfinite(depth)
+    with np.errstate(invalid="ignore"):
+        invalid = ~(np.isfinite(depth) & (depth > 0))
     if dtype.kind in "ui":
         info = np.iinfo(dtype)
         out = np.clip(np.floor(np.where(invalid, 0, depth) + 0.5), max(1, info.min), info.max)
