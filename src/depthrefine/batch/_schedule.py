@@ -149,8 +149,8 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
 
     The local cluster has ``workers`` processes (default: the number of
     cores) with one thread each and no dashboard; both are closed at the
-    end. Dask's own log lines stay off the terminal (errors only while
-    running, none while shutting down after an error or an interrupt).
+    end. Dask's own log lines stay off the terminal (a lost worker or
+    scheduler is the caller's to report).
 
     Raises
     ------
@@ -179,8 +179,9 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
             import logging
 
             n = workers or os.cpu_count() or 1
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                   dashboard_address=":0", silence_logs=logging.ERROR)
+            with _sigint_ignored():  # the workers ignore Ctrl-C (this process stops them): no tracebacks of theirs
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                       dashboard_address=":0", silence_logs=logging.ERROR)
             with _closing(cluster, silence), _closing(Client(cluster), silence) as client:
                 yield client
         except BaseException:
@@ -190,23 +191,50 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
 
 @contextlib.contextmanager
 def _quiet_dask() -> Iterator[Callable[[], None]]:
-    """Dask's loggers at ERROR for the block; the callable given silences them fully (shutdown after a failure)."""
+    """Dask's loggers at CRITICAL for the block; the callable given silences them fully (shutdown after a failure).
+
+    Dask logs a lost connection or worker as a traceback; the batch reports
+    what it means, in one line. Dask's configuration gives some of its
+    loggers their own levels (``distributed.client``), so each is set.
+    """
     import logging
 
-    names = ("distributed", "tornado", "asyncio")
-    loggers = [logging.getLogger(name) for name in names]
+    prefixes = ("distributed", "tornado", "asyncio")
+    known = [name for name in logging.root.manager.loggerDict
+             if name in prefixes or name.startswith(tuple(p + "." for p in prefixes))]
+    loggers = [logging.getLogger(name) for name in sorted(set(known) | set(prefixes))]
     levels = [logger.level for logger in loggers]
-    logging.getLogger("distributed").setLevel(logging.ERROR)
 
-    def silence() -> None:
+    def quiet(level: int) -> None:
         for logger in loggers:
-            logger.setLevel(logging.CRITICAL + 1)
+            logger.setLevel(level)
 
+    quiet(logging.CRITICAL)
     try:
-        yield silence
+        yield lambda: quiet(logging.CRITICAL + 1)
     finally:
         for logger, level in zip(loggers, levels):
             logger.setLevel(level)
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored while the block starts processes, which inherit it (in the main thread; else nothing).
+
+    A Ctrl-C at a terminal reaches every process of the foreground group: the
+    local workers, started with SIGINT ignored, leave it to this process,
+    which stops them. A Ctrl-C while they start is ignored.
+    """
+    import signal
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @contextlib.contextmanager
@@ -217,7 +245,7 @@ def _closing(thing: Any, silence: Callable[[], None]) -> Iterator[Any]:
     except BaseException:
         silence()
         with contextlib.suppress(BaseException):
-            thing.close(timeout=5)
+            thing.close(timeout=2)
         raise
     thing.close()
 
