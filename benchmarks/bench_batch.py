@@ -2,35 +2,54 @@
 
 A generated sequence (``make_sequence``: a disc moving over a static scene,
 fresh depth and color noise per frame, uint16 mm) is refined on Dask
-``LocalCluster``s of 1 and 2 worker processes (one thread each), and with
-``temporal=True`` (warm start, two chunks of half the frames, one per worker) on 2 workers. Each
-configuration runs ``--repeats`` times on a cluster that has already refined
-a warm-up batch (imports and first-call costs excluded; the cluster start is
-not timed); the figures are medians. The work per frame is independent, so 2
-workers should give close to 2x the frames per second of 1 on a machine with 2
-free cores (the thesis method also uses threads inside a frame, which 1
-worker can use too: expect less than 2x).
+``LocalCluster``s of 1 and 2 worker processes (one Dask thread each; each
+worker caps its kernel threads at its share of the cores, so 1 worker on 2
+cores runs 2 kernel threads, 2 workers 1 each), and with ``temporal=True``
+(warm start, two chunks of half the frames, one per worker) on 2 workers.
+Each configuration runs ``--repeats`` times on a cluster that has already
+refined a warm-up batch (imports and first-call costs excluded; the cluster
+start is not timed); the figures are medians. The load average of the
+machine (``os.getloadavg``) is printed beside them: on a machine shared with
+other jobs the ratio of 2 workers to 1 is only as good as the free cores.
 
 Flicker (``depthrefine.bench.metrics.flicker``: mean absolute frame-to-frame
 change on pixels whose ground truth did not change, in mm) and the mean RMSE
 against the ground truth are printed for the frames refined independently and
 with ``temporal``, on the timed sequence (ToF-like depth noise of 10 mm, new
 in every frame, which no warm start can remove) and on the same sequence
-without depth noise (what is left is the clustering's flicker).
+without depth noise.
 
 Usage::
 
-    python benchmarks/bench_batch.py [--frames 48] [--size 240x320] [--scale 4] [--repeats 3] [--method thesis]
+    python benchmarks/bench_batch.py [--frames 48] [--size 240x320] [--scale 4] [--repeats 5] [--method gbp]
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import os
 import statistics
 import time
 
 import numpy as np
+
+
+def _load() -> str:
+    one, five, _ = os.getloadavg()
+    return f"load {one:.2f} (1 min) {five:.2f} (5 min)"
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
+                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    ap.add_argument("--frames", type=int, default=48, help="frames in the sequence")
+    ap.add_argument("--size", default="240x320", help="color image ROWSxCOLS")
+    ap.add_argument("--scale", type=int, default=4, help="color / depth resolution ratio")
+    ap.add_argument("--repeats", type=int, default=5, help="timed runs per configuration (the median is reported)")
+    ap.add_argument("--method", default="gbp", help="refinement method")
+    ap.add_argument("--no-flicker", action="store_true", help="only the frames per second")
+    return ap
 
 
 def main() -> None:
@@ -40,19 +59,14 @@ def main() -> None:
     from depthrefine.bench.metrics import flicker, rmse
     from depthrefine.bench.synthetic import make_sequence
 
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--frames", type=int, default=48)
-    ap.add_argument("--size", default="240x320", help="color image ROWSxCOLS (default 240x320)")
-    ap.add_argument("--scale", type=int, default=4)
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--method", default="thesis")
-    args = ap.parse_args()
+    args = _parser().parse_args()
     rows, cols = (int(v) for v in args.size.lower().split("x"))
     seq = make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0)
     pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(seq)]
     gts = [f.depth_hr_gt for f in seq]
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     print(f"{args.frames} frames, color {cols}x{rows}, depth {cols // args.scale}x{rows // args.scale} "
-          f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians")
+          f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians; {cores} cores; {_load()}")
 
     chunk = (args.frames + 1) // 2
     results: dict[str, tuple[float, list]] = {}
@@ -60,7 +74,7 @@ def main() -> None:
                                      ("2 workers --temporal", 2, True)):
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                           dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-            list(refine_many(pairs[:2 * workers], method=args.method, client=client))  # warm-up
+            list(refine_many(pairs[:4 * workers], method=args.method, client=client))  # warm-up
             times, outputs = [], None
             for _ in range(args.repeats):
                 start = time.perf_counter()
@@ -69,11 +83,13 @@ def main() -> None:
                 times.append(time.perf_counter() - start)
         fps = args.frames / statistics.median(times)
         results[label] = (fps, outputs)
-        print(f"  {label:22s} {fps:7.2f} frames/s   (runs: {', '.join(f'{args.frames / t:.2f}' for t in times)})",
-              flush=True)
+        print(f"  {label:22s} {fps:7.2f} frames/s   (runs: {', '.join(f'{args.frames / t:.2f}' for t in times)}; "
+              f"{_load()})", flush=True)
     one, two = results["1 worker"][0], results["2 workers"][0]
     print(f"  2 workers / 1 worker: {two / one:.2f}x;  temporal / independent (2 workers): "
           f"{results['2 workers --temporal'][0] / two:.2f}x")
+    if args.no_flicker:
+        return
     quiet = make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0, noise_std=0.0)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0",
                       silence_logs=logging.ERROR) as cluster, Client(cluster) as client:

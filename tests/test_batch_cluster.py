@@ -82,8 +82,12 @@ class Cluster:
                                          **quiet) for _ in range(workers)]
         from distributed import Client
 
-        with Client(self.address, timeout="60s") as client:
-            client.wait_for_workers(workers, timeout=60)
+        try:
+            with Client(self.address, timeout="60s") as client:
+                client.wait_for_workers(workers, timeout=60)
+        except BaseException:
+            self.stop()
+            raise
 
     def stop(self) -> None:
         for proc in [*self.workers, self.scheduler]:
@@ -116,11 +120,24 @@ def recording(tmp_path_factory):
     return root
 
 
-def _start(recording: Path, out: Path, *extra: str) -> subprocess.Popen:
-    cmd = [sys.executable, str(recording / "runner.py"), "batch", str(recording / "seq"), "-o", str(out),
-           "--method", "slow_gbp", *extra]
-    return subprocess.Popen(cmd, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+@pytest.fixture
+def start():
+    """``start(recording, out, *options)``: the command in a new process group, stopped at the test's end."""
+    started: list[subprocess.Popen] = []
+
+    def run(recording: Path, out: Path, *extra: str) -> subprocess.Popen:
+        cmd = [sys.executable, str(recording / "runner.py"), "batch", str(recording / "seq"), "-o", str(out),
+               "--method", "slow_gbp", *extra]
+        proc = subprocess.Popen(cmd, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                start_new_session=True)
+        started.append(proc)
+        return proc
+
+    yield run
+    for proc in started:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
 
 
 def _wait_for_files(proc: subprocess.Popen, out: Path, n: int, timeout: float = 60) -> None:
@@ -139,9 +156,9 @@ def _record_is_true_to_the_files(out: Path) -> dict:
     return record
 
 
-def test_a_killed_worker_s_frames_are_recomputed_and_every_output_is_byte_identical(cluster, recording, tmp_path):
+def test_a_killed_worker_s_frames_are_recomputed_and_every_output_is_byte_identical(cluster, recording, start, tmp_path):
     out = tmp_path / "out"
-    proc = _start(recording, out, "--scheduler", cluster.address)
+    proc = start(recording, out, "--scheduler", cluster.address)
     _wait_for_files(proc, out, 3)
     cluster.workers[0].send_signal(signal.SIGKILL)
     _, err = proc.communicate(timeout=120)
@@ -155,9 +172,9 @@ def test_a_killed_worker_s_frames_are_recomputed_and_every_output_is_byte_identi
     assert _record_is_true_to_the_files(out)["counts"] == {"done": N_FRAMES}
 
 
-def test_a_killed_scheduler_is_one_line_exit_1_and_the_record_is_true(cluster, recording, tmp_path):
+def test_a_killed_scheduler_is_one_line_exit_1_and_the_record_is_true(cluster, recording, start, tmp_path):
     out = tmp_path / "out"
-    proc = _start(recording, out, "--scheduler", cluster.address)
+    proc = start(recording, out, "--scheduler", cluster.address)
     _wait_for_files(proc, out, 3)
     cluster.scheduler.send_signal(signal.SIGKILL)
     _, err = proc.communicate(timeout=60)
@@ -171,9 +188,9 @@ def test_a_killed_scheduler_is_one_line_exit_1_and_the_record_is_true(cluster, r
                for r in record["frames"] if r["status"] == "done")
 
 
-def test_ctrl_c_is_one_line_exit_130_with_the_local_cluster_silent(recording, tmp_path):
+def test_ctrl_c_is_one_line_exit_130_with_the_local_cluster_silent(recording, start, tmp_path):
     out = tmp_path / "out"
-    proc = _start(recording, out, "--workers", "2")
+    proc = start(recording, out, "--workers", "2")
     _wait_for_files(proc, out, 2, timeout=90)
     os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the command and its worker processes
     _, err = proc.communicate(timeout=60)
