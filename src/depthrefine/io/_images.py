@@ -184,7 +184,26 @@ def _captured_stderr_fd() -> Iterator[list[str]]:
             out.append(tmp.read().decode("utf-8", "replace").strip())
 
 
+#: File signatures of recordings that `depthrefine batch` reads, not single images.
+_RECORDINGS = ((b"\x1a\x45\xdf\xa3", "a Matroska recording (.mkv, e.g. Azure Kinect)"),
+               (b"#ROSBAG", "a ROS 1 bag"), (b"\x89MCAP", "an MCAP bag"), (b"SQLite format 3\x00", "a ROS 2 bag (.db3)"))
+
+
+def _recording(p: Path) -> str | None:
+    """What recording ``p`` is (from its first bytes), else None."""
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(16)
+    except OSError:
+        return None
+    return next((kind for magic, kind in _RECORDINGS if head.startswith(magic)), None)
+
+
 def _read_any(p: Path, what: str) -> np.ndarray:
+    kind = _recording(p)
+    if kind is not None:
+        raise InputFileError(f"{what} file {p} is {kind}, not an image; refine its frames with "
+                             f"`depthrefine batch {p} -o OUTDIR`.")
     suffix = p.suffix.lower()
     try:
         if suffix == ".npy":

@@ -4,6 +4,7 @@
 - ``boards``      calibration boards (checkerboard, ChArUco): corner coordinates, detection, pictures
 - ``calibrate``   single-camera and stereo calibration from board views
 - ``formats``     calibrations of other tools: Azure Kinect factory (K4A), OpenCV YAML, ROS camera_info
+                  and /tf_static, RealSense recordings
 - ``undistort``   undistortion of depth maps and color images (spec step 1)
 - ``shift``       the thesis's horizontal shift alignment (spec step 3)
 - ``reproject``   calibrated reprojection of depth into the color camera
@@ -24,7 +25,9 @@ _EXPORTS = {
                 "find_board_corners", "detect_board", "render_board"),
     ".calibrate": ("MIN_VIEWS", "calibrate_from_views", "calibrate_from_corners", "calibrate_camera",
                    "calibrate_stereo_from_views", "calibrate_stereo_from_corners", "calibrate_stereo"),
-    ".formats": ("K4A_DEPTH_MODES", "K4A_COLOR_RESOLUTIONS", "rig_from_k4a", "camera_from_opencv", "camera_from_ros"),
+    ".formats": ("K4A_DEPTH_MODES", "K4A_COLOR_RESOLUTIONS", "rig_from_k4a", "camera_from_opencv", "camera_from_ros",
+                 "camera_from_realsense", "rig_from_poses", "rig_from_ros", "rotation_from_quaternion",
+                 "transform_between_frames"),
     ".undistort": ("undistort_maps", "distort_maps", "undistort_depth", "undistort_image", "distort_depth",
                    "distort_image"),
     ".shift": ("COLOR_SIDES", "ENCODINGS", "MAX_PARALLEL_ROTATION", "MAX_SHIFT_MISREGISTRATION",
