@@ -61,7 +61,7 @@ class BatchOptions:
         Where ``rig`` came from, for the record.
     align : AlignSettings, optional
         Alignment settings with a rig; units left unset are the recording's
-        (``Sequence.depth_units``).
+        (``Sequence.depth_units``, e.g. a RealSense bag's "Depth Units").
     fill_holes : bool
         With a rig: keep the refinement's depth where nothing was measured.
     output_scale, output_dtype
@@ -254,21 +254,16 @@ class BatchJob:
 
         options, seq = self.options, self.sequence
         rig, source = options.rig, options.rig_source
-        own = getattr(seq, "rig", None)
-        if rig is None and getattr(seq, "raw", False):
-            if own is None:
-                raise InputFileError(f"input {seq.source} holds raw depth and color frames (not registered) and no "
-                                     "calibration; give --rig RIG (a rig file from `depthrefine calibrate-stereo`).")
-            rig, source = own, "recording"
+        if rig is None and seq.raw:
+            rig, source = seq.require_rig(), seq.rig_source or "recording"
         if rig is None:
             if options.align is not None or options.fill_holes:
                 raise InputFileError("alignment options (--align-method, --depth-units, --fill-holes ...) apply to "
                                      "raw frames of a rig: give --rig RIG.")
             return None, None, AlignSettings()
         align = options.align or AlignSettings()
-        units = getattr(seq, "depth_units", None)
-        if align.depth_units is None and align.inverse_scale is None and units is not None:
-            align = dataclasses.replace(align, depth_units=float(units))
+        if align.depth_units is None and align.inverse_scale is None and seq.depth_units is not None:
+            align = dataclasses.replace(align, depth_units=float(seq.depth_units))
         return rig, source, align
 
     def _frame_outputs(self, frame: Any) -> dict[str, Path]:

@@ -37,7 +37,7 @@ class BatchWriter:
         self.refined = 0
         self.computed = 0
         self.chain_notes: tuple[str, ...] = ()
-        self.unpaired = list(getattr(job.sequence, "unpaired", None) or [])
+        self.unpaired = list(job.sequence.unpaired)
         self._wrote: set[str] = set()
         self._last_record = 0.0
         self._video: Any = None
@@ -60,9 +60,8 @@ class BatchWriter:
         for frame in seq.frames:
             files = job.outputs[frame.key]
             row: dict[str, Any] = {"key": frame.key, "depth": frame.depth, "color": frame.color}
-            stamp = getattr(frame, "stamp_ns", None)
-            if stamp is not None:
-                row["stamp_ns"] = int(stamp)
+            if frame.stamp_ns is not None:
+                row["stamp_ns"] = int(frame.stamp_ns)
             row["output"] = files["depth"].name
             for kind in ("color", "ply"):
                 if kind in files:
@@ -78,7 +77,7 @@ class BatchWriter:
         if job.video_path is not None:
             from ..io import VideoWriter
 
-            fps = self.options.fps or getattr(seq, "frame_rate", None) or DEFAULT_FPS
+            fps = self.options.fps or seq.frame_rate or DEFAULT_FPS
             self._video = VideoWriter(job.video_path, fps=float(fps), overwrite=self.options.overwrite)
         self.write_record(complete=False)
 
@@ -191,7 +190,7 @@ class BatchWriter:
         if self._limits is None:
             self._limits = preview_limits([o.depth_lr for o in self._preview_buffer])
         plan = self.job.plan
-        units = plan.align.depth_units if plan.rig is not None else getattr(self.job.sequence, "depth_units", None)
+        units = plan.align.depth_units if plan.rig is not None else self.job.sequence.depth_units
         for output in self._preview_buffer:
             frame = preview_frame(output.rgb_hr, output.depth_lr, output.depth_hr, limits=self._limits,
                                   units=units_label(units), method=plan.method.name)
