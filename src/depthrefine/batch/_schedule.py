@@ -438,8 +438,12 @@ def _submit(client, group, plan, temporal, want, share):
         items.append((order, key, depth, rgb, is_wanted))
     if not items:
         return settled, None, []
-    # the arrays go inside the task (no scatter): the scheduler can run it again if its worker is lost
-    future = _check_running(client, client.submit, _solve_chunk, plan, temporal, items, share, pure=False)
+    import dask
+
+    # the arrays go inside the task (no scatter): the scheduler can run it again if its worker is lost (and
+    # Dask's advice against large tasks, "Sending large graph", is what this trades for that)
+    with dask.config.set({"distributed.admin.large-graph-warning-threshold": "1TiB"}):
+        future = _check_running(client, client.submit, _solve_chunk, plan, temporal, items, share, pure=False)
     return settled, future, [(order, key) for order, key, *_ in items]
 
 
