@@ -8,9 +8,11 @@ cores runs 2 kernel threads, 2 workers 1 each), and with ``temporal=True``
 (warm start, two chunks of half the frames, one per worker) on 2 workers.
 Each configuration runs ``--repeats`` times on a cluster that has already
 refined a warm-up batch (imports and first-call costs excluded; the cluster
-start is not timed); the figures are medians. The load average of the
-machine (``os.getloadavg``) is printed beside them: on a machine shared with
-other jobs the ratio of 2 workers to 1 is only as good as the free cores.
+start is not timed), the configurations taking turns (1 worker, 2 workers, 2
+workers temporal, then again), so that on a machine shared with other jobs
+each sees the same load; the figures are medians. The load average of the
+machine (``os.getloadavg``) is printed beside them: the ratio of 2 workers
+to 1 is only as good as the free cores.
 
 Flicker (``depthrefine.bench.metrics.flicker``: mean absolute frame-to-frame
 change on pixels whose ground truth did not change, in mm) and the mean RMSE
@@ -27,6 +29,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import os
 import statistics
@@ -69,22 +72,31 @@ def main() -> None:
           f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians; {cores} cores; {_load()}")
 
     chunk = (args.frames + 1) // 2
-    results: dict[str, tuple[float, list]] = {}
-    for label, workers, temporal in (("1 worker", 1, False), ("2 workers", 2, False),
-                                     ("2 workers --temporal", 2, True)):
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                          dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-            list(refine_many(pairs[:4 * workers], method=args.method, client=client))  # warm-up
-            times, outputs = [], None
-            for _ in range(args.repeats):
+    configs = (("1 worker", 1, False), ("2 workers", 2, False), ("2 workers --temporal", 2, True))
+    times: dict[str, list[float]] = {label: [] for label, _, _ in configs}
+    loads: dict[str, list[float]] = {label: [] for label, _, _ in configs}
+    outputs: dict[str, list] = {}
+    with contextlib.ExitStack() as stack:
+        clients = {}
+        for workers in (1, 2):
+            cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                                       host="127.0.0.1", dashboard_address=":0",
+                                                       silence_logs=logging.ERROR))
+            clients[workers] = stack.enter_context(Client(cluster))
+            list(refine_many(pairs[:4 * workers], method=args.method, client=clients[workers]))  # warm-up
+        for _ in range(args.repeats):  # the configurations take turns, so that each sees the same load
+            for label, workers, temporal in configs:
                 start = time.perf_counter()
-                outputs = [d for _, d in refine_many(pairs, method=args.method, client=client, temporal=temporal,
-                                                     chunk=chunk)]
-                times.append(time.perf_counter() - start)
-        fps = args.frames / statistics.median(times)
-        results[label] = (fps, outputs)
-        print(f"  {label:22s} {fps:7.2f} frames/s   (runs: {', '.join(f'{args.frames / t:.2f}' for t in times)}; "
-              f"{_load()})", flush=True)
+                outputs[label] = [d for _, d in refine_many(pairs, method=args.method, client=clients[workers],
+                                                            temporal=temporal, chunk=chunk)]
+                times[label].append(time.perf_counter() - start)
+                loads[label].append(os.getloadavg()[0])
+    results: dict[str, tuple[float, list]] = {}
+    for label, _, _ in configs:
+        fps = args.frames / statistics.median(times[label])
+        results[label] = (fps, outputs[label])
+        print(f"  {label:22s} {fps:7.2f} frames/s   (runs: {', '.join(f'{args.frames / t:.2f}' for t in times[label])}; "
+              f"1-min load after each: {', '.join(f'{v:.1f}' for v in loads[label])})", flush=True)
     one, two = results["1 worker"][0], results["2 workers"][0]
     print(f"  2 workers / 1 worker: {two / one:.2f}x;  temporal / independent (2 workers): "
           f"{results['2 workers --temporal'][0] / two:.2f}x")
