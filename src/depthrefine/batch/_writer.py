@@ -162,17 +162,13 @@ class BatchWriter:
 
     def _stored(self, key: str, depth: np.ndarray) -> tuple[np.ndarray, np.dtype]:
         """The depth to write and its dtype, after the output scale and dtype."""
-        from ..io import scale_to_dtype
+        from ..io import output_values
 
         o = self.options
-        dtype = np.dtype(o.output_dtype or self.dtypes[key])
-        if o.output_scale is None and o.output_dtype is None:
-            return depth, dtype
-        scale = 1.0 if o.output_scale is None else o.output_scale
         try:
-            return scale_to_dtype(depth, scale, dtype), dtype
+            return output_values(depth, self.dtypes[key], scale=o.output_scale, dtype=o.output_dtype)
         except ValueError as exc:
-            raise ValueError(f"output scale {scale:g}, dtype {dtype}: {exc}") from None
+            raise ValueError(f"output scale {o.output_scale or 1:g}, dtype {o.output_dtype}: {exc}") from None
 
     # ------------------------------------------------------------------ preview video
 

@@ -10,8 +10,8 @@ from .._lazy import lazy_exports
 #: read :mod:`._names` without importing the readers (fast start-up).
 _EXPORTS = {
     "._files": ("InputFileError", "atomic_directory", "atomic_write", "check_output", "check_output_dir"),
-    "._images": ("DEPTH_SUFFIXES", "check_depth_format", "depth_to_dtype", "image_shape", "read_depth", "read_rgb",
-                 "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
+    "._images": ("DEPTH_SUFFIXES", "check_depth_format", "depth_to_dtype", "image_shape", "output_values", "read_depth",
+                 "read_rgb", "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
     "._params": ("read_mapping", "read_patch_layout"),
     "._camera": ("ChainSettings", "read_camera", "read_chain_settings", "read_rig", "write_camera",
                  "write_chain_settings", "write_rig"),

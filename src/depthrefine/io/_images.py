@@ -350,6 +350,27 @@ def scale_to_dtype(depth: np.ndarray, scale: float, dtype: np.dtype | type) -> n
     return scaled.astype(np.float32)
 
 
+def output_values(depth: np.ndarray, input_dtype: np.dtype | type, *, scale: float | None = None,
+                  dtype: np.dtype | type | str | None = None) -> tuple[np.ndarray, np.dtype]:
+    """The depth to write and the dtype to write it in, after an output scale and dtype.
+
+    Without either: ``depth`` itself and ``input_dtype`` (the output keeps the
+    input's type). With one of them the conversion is explicit
+    (:func:`scale_to_dtype`), so a value the type cannot hold is a
+    ``ValueError`` instead of a silent clip.
+
+    Examples
+    --------
+    >>> values, dtype = output_values(np.array([0.5, 2.25], np.float32), np.float32, scale=1000, dtype="uint16")
+    >>> values.tolist(), str(dtype)
+    ([500.0, 2250.0], 'uint16')
+    """
+    out_dtype = np.dtype(dtype or input_dtype)
+    if scale is None and dtype is None:
+        return depth, out_dtype
+    return scale_to_dtype(depth, 1.0 if scale is None else scale, out_dtype), out_dtype
+
+
 def check_depth_format(path: str | os.PathLike, dtype: np.dtype | type) -> str:
     """The lower-case suffix of ``path`` if it is a depth format that can hold ``dtype``.
 
