@@ -37,17 +37,26 @@ pytestmark = pytest.mark.cluster
 SRC = Path(__file__).resolve().parents[1] / "src"
 N_FRAMES = 14
 
-#: The command with a slow copy of gbp (0.25 s per frame); its workers unpickle the method by value.
+#: The command with a slow copy of gbp (0.25 s per frame); its workers unpickle the method by value. Where
+#: BATCH_TEST_MARKS names a folder, each frame leaves <pid>-<depth sum>.started and .done there.
 RUNNER = textwrap.dedent("""
-    import sys, time
+    import os, sys, time
+    from pathlib import Path
     from depthrefine.cli import main
     from depthrefine.methods.registry import get_method, register_method
 
     gbp = get_method("gbp")
 
     def slow_gbp(depth_lr, rgb_hr, *, params=None, progress=None):
+        marks = os.environ.get("BATCH_TEST_MARKS")
+        mark = Path(marks, f"{os.getpid()}-{int(depth_lr.sum())}") if marks else None
+        if mark:
+            mark.with_suffix(".started").touch()
         time.sleep(0.25)
-        return gbp.func(depth_lr, rgb_hr, params=params, progress=progress)
+        out = gbp.func(depth_lr, rgb_hr, params=params, progress=progress)
+        if mark:
+            mark.with_suffix(".done").touch()
+        return out
 
     register_method("slow_gbp", slow_gbp, params_type=gbp.params_type)
     if __name__ == "__main__":
@@ -70,10 +79,11 @@ def _free_port() -> int:
 class Cluster:
     """``dask scheduler`` and ``dask worker`` processes (no nanny: a killed worker stays dead) on 127.0.0.1."""
 
-    def __init__(self, workers: int = 2):
+    def __init__(self, workers: int = 2, marks: Path | None = None):
         port = _free_port()
         self.address = f"tcp://127.0.0.1:{port}"
-        quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "env": _env()}
+        env = _env() | ({"BATCH_TEST_MARKS": str(marks)} if marks else {})
+        quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "env": env}
         self.scheduler = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host",
                                            "127.0.0.1", "--port", str(port), "--dashboard-address", ":0",
                                            "--no-show"], **quiet)
@@ -97,8 +107,10 @@ class Cluster:
 
 
 @pytest.fixture
-def cluster():
-    c = Cluster()
+def cluster(tmp_path):
+    """A scheduler and two workers; each frame a worker starts and ends leaves a mark in tmp_path/marks."""
+    (tmp_path / "marks").mkdir()
+    c = Cluster(marks=tmp_path / "marks")
     yield c
     c.stop()
 
@@ -127,7 +139,7 @@ def start():
 
     def run(recording: Path, out: Path, *extra: str) -> subprocess.Popen:
         cmd = [sys.executable, str(recording / "runner.py"), "batch", str(recording / "seq"), "-o", str(out),
-               "--method", "slow_gbp", *extra]
+               "--method", "slow_gbp", "--frames-per-task", "1", *extra]
         proc = subprocess.Popen(cmd, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                 start_new_session=True)
         started.append(proc)
@@ -156,16 +168,28 @@ def _record_is_true_to_the_files(out: Path) -> dict:
     return record
 
 
-def test_a_killed_worker_s_frames_are_recomputed_and_every_output_is_byte_identical(cluster, recording, start, tmp_path):
-    out = tmp_path / "out"
+def test_a_killed_worker_s_frames_are_recomputed_and_every_output_is_byte_identical(cluster, recording, start,
+                                                                                    tmp_path):
+    out, marks = tmp_path / "out", tmp_path / "marks"
+    victim = cluster.workers[0]
     proc = start(recording, out, "--scheduler", cluster.address)
-    _wait_for_files(proc, out, 3)
-    cluster.workers[0].send_signal(signal.SIGKILL)
+    _wait_for_files(proc, out, 2)
+    deadline = time.monotonic() + 30  # kill the worker in the middle of a frame
+    while time.monotonic() < deadline:
+        busy = [p.stem for p in marks.glob(f"{victim.pid}-*.started") if not p.with_suffix(".done").exists()]
+        if busy:
+            break
+        time.sleep(0.005)
+    victim.send_signal(signal.SIGKILL)
+    assert busy, "the worker never started a frame"
     _, err = proc.communicate(timeout=120)
-    assert cluster.workers[0].wait(10) == -signal.SIGKILL
+    assert victim.wait(10) == -signal.SIGKILL
     assert proc.returncode == 0, err
     assert err.strip().splitlines()[0].startswith(f"batch: {N_FRAMES} frames: {N_FRAMES} refined, 0 already done, "
                                                   "0 failed")
+    frame = busy[0].split("-", 1)[1]  # the frame the killed worker was computing: done by the other one
+    assert not (marks / f"{busy[0]}.done").exists()
+    assert list(marks.glob(f"{cluster.workers[1].pid}-{frame}.done"))
     for i in range(N_FRAMES):
         name = f"{i:04d}.png"
         assert (out / name).read_bytes() == (recording / "expected" / name).read_bytes(), name
@@ -190,7 +214,7 @@ def test_a_killed_scheduler_is_one_line_exit_1_and_the_record_is_true(cluster, r
 
 def test_ctrl_c_is_one_line_exit_130_with_the_local_cluster_silent(recording, start, tmp_path):
     out = tmp_path / "out"
-    proc = start(recording, out, "--workers", "2")
+    proc = start(recording, out, "--workers", "1")
     _wait_for_files(proc, out, 2, timeout=90)
     os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the command and its worker processes
     _, err = proc.communicate(timeout=60)

@@ -77,6 +77,11 @@ class BatchOptions:
     video, fps
         Also write a preview video (color | input | refined) at ``fps``
         frames per second (default: the recording's rate, else 30).
+    frames_per_task : int, optional
+        Without ``temporal``: frames sent to a worker at once (default: as
+        many as hold about a million color pixels, at most 8; see
+        :func:`depthrefine.batch.run_frames`). More: less overhead per frame;
+        fewer: finer progress, less work redone after a lost worker.
     max_dt : float, optional
         The pairing tolerance the sequence was opened with (for the record).
     saturated_invalid, overwrite
@@ -98,6 +103,7 @@ class BatchOptions:
     ply_stride: int = 1
     video: str | os.PathLike | None = None
     fps: float | None = None
+    frames_per_task: int | None = None
     max_dt: float | None = None
     saturated_invalid: bool = False
     overwrite: bool = False
@@ -106,6 +112,9 @@ class BatchOptions:
         get_method(self.method)
         if not (isinstance(self.chunk, int) and self.chunk >= 1):
             raise ValueError(f"chunk must be a whole number >= 1; got {self.chunk!r}.")
+        if self.frames_per_task is not None and not (isinstance(self.frames_per_task, int)
+                                                     and self.frames_per_task >= 1):
+            raise ValueError(f"frames_per_task must be a whole number >= 1; got {self.frames_per_task!r}.")
         if not (isinstance(self.ply_stride, int) and self.ply_stride >= 1):
             raise ValueError(f"the point cloud stride must be a whole number >= 1; got {self.ply_stride!r}.")
         if self.output_dtype is not None and self.output_dtype not in _OUTPUT_DTYPES:
@@ -390,7 +399,8 @@ class BatchJob:
             if progress:
                 progress(0, len(to_run))
             for result in run_frames(self._tasks(need, loaded, writer), plan=self.plan, client=client,
-                                     temporal=options.temporal, chunk=options.chunk, want=want):
+                                     temporal=options.temporal, chunk=options.chunk, want=want,
+                                     frames_per_task=options.frames_per_task):
                 writer.settle(result, write=result.key in write)
                 if progress and result.key in write:
                     progress(writer.computed, len(to_run))

@@ -39,6 +39,10 @@ Loader = Callable[[], tuple[np.ndarray, np.ndarray]]
 
 #: Seconds to wait for a first worker of a remote cluster.
 _WORKER_WAIT = 30
+#: Without ``temporal``: frames per task by default, as many as hold about this many color pixels ...
+TASK_PIXELS = 1 << 20
+#: ... and at most this many (each task costs Dask a few milliseconds; small frames share one).
+MAX_FRAMES_PER_TASK = 8
 
 
 class ClusterLost(RuntimeError):
@@ -273,6 +277,7 @@ def run_frames(
     chunk: int = DEFAULT_CHUNK,
     want: Callable[[Hashable], bool] | None = None,
     ahead: int | None = None,
+    frames_per_task: int | None = None,
 ) -> Iterator[FrameResult]:
     """Run frames on ``client``; yield one :class:`FrameResult` per frame, in input order.
 
@@ -295,6 +300,12 @@ def run_frames(
         warm-start it). Used to resume a batch.
     ahead : int, optional
         Tasks in flight (default: twice the workers' threads).
+    frames_per_task : int, optional
+        Without ``temporal``: consecutive frames sent to a worker as one task
+        (each refined on its own). Default: one for the first task, then as
+        many as hold about :data:`TASK_PIXELS` color pixels of the first
+        frame's size, at most :data:`MAX_FRAMES_PER_TASK` (small frames share
+        a task, so that Dask's cost per task stays small beside the work).
 
     Raises
     ------
@@ -303,13 +314,13 @@ def run_frames(
     """
     from distributed import wait
 
-    chunk = max(1, int(chunk)) if temporal else 1
+    size = [max(1, int(chunk)) if temporal else (frames_per_task or 1)]  # frames of the next task
     threads = _check_running(client, client.nthreads)
     if ahead is None:
         ahead = 2 * max(1, sum(threads.values()))
     share = _host_threads(threads)
     want = want or (lambda key: True)
-    groups = _chunks(iter(tasks), chunk)
+    groups = _chunks(iter(tasks), size)
     pending: dict[Any, tuple[int, list[tuple[int, Hashable]]]] = {}  # future -> (chunk number, its frames)
     known: dict[int, list[tuple[int, FrameResult]]] = {}   # results settled before sending
     done: dict[int, list[tuple[int, FrameResult]]] = {}    # chunks finished, not yet yielded
@@ -322,7 +333,9 @@ def run_frames(
                 if group is None:
                     exhausted = True
                     break
-                settled, future, frames = _submit(client, group, plan, temporal, want, share)
+                settled, future, frames, pixels = _submit(client, group, plan, temporal, want, share)
+                if pixels and not temporal and frames_per_task is None:
+                    size[0] = max(1, min(MAX_FRAMES_PER_TASK, TASK_PIXELS // pixels))
                 if future is None:
                     done[next_submit] = settled
                 else:
@@ -387,14 +400,15 @@ def needed_keys(keys: Iterable[Hashable], want: Callable[[Hashable], bool], *, t
     return need
 
 
-def _chunks(tasks: Iterator, size: int) -> Iterator[list[tuple[int, Hashable, Any]]]:
+def _chunks(tasks: Iterator, size: list[int]) -> Iterator[list[tuple[int, Hashable, Any]]]:
+    """Consecutive ``(index, key, loader)`` in groups of ``size[0]`` (read as each group starts)."""
     index = 0
     while True:
         group = []
         for key, loader in tasks:
             group.append((index, key, loader))
             index += 1
-            if len(group) == size:
+            if len(group) >= size[0]:
                 break
         if not group:
             return
@@ -419,7 +433,7 @@ def _host_threads(threads: Mapping[str, int]) -> dict[str, int]:
 
 
 def _submit(client, group, plan, temporal, want, share):
-    """Load a chunk's frames here and send them: (results settled now, future or None, its frames)."""
+    """Load a chunk's frames here and send them: (results settled now, future or None, its frames, color pixels)."""
     wanted = [want(key) for _, key, _ in group]
     last = max((i for i, w in enumerate(wanted) if w), default=-1)
     settled: list[tuple[int, FrameResult]] = []
@@ -437,14 +451,15 @@ def _submit(client, group, plan, temporal, want, share):
             continue
         items.append((order, key, depth, rgb, is_wanted))
     if not items:
-        return settled, None, []
+        return settled, None, [], 0
     import dask
 
     # the arrays go inside the task (no scatter): the scheduler can run it again if its worker is lost (and
     # Dask's advice against large tasks, "Sending large graph", is what this trades for that)
     with dask.config.set({"distributed.admin.large-graph-warning-threshold": "1TiB"}):
         future = _check_running(client, client.submit, _solve_chunk, plan, temporal, items, share, pure=False)
-    return settled, future, [(order, key) for order, key, *_ in items]
+    pixels = max(int(np.prod(np.shape(rgb)[:2])) for *_, rgb, _ in items)
+    return settled, future, [(order, key) for order, key, *_ in items], pixels
 
 
 def _collect(client, future, frames: list[tuple[int, Hashable]]) -> list[tuple[int, FrameResult]]:

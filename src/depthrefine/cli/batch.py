@@ -50,6 +50,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "(thesis: k-means from the previous means, so labels do not flicker)")
     p.add_argument("--chunk", type=parse_count, metavar="N", default=None,
                    help="frames per chunk with --temporal (default 32); each chunk's first frame starts cold")
+    p.add_argument("--frames-per-task", type=parse_count, metavar="N",
+                   help="without --temporal: frames sent to a worker at once (default: as many as hold about a "
+                        "million color pixels, at most 8); fewer: finer progress, less work redone after a lost "
+                        "worker")
     p.add_argument("--depth-topic", metavar="TOPIC", help="ROS bag: the depth topic (sensor_msgs/Image)")
     p.add_argument("--color-topic", metavar="TOPIC",
                    help="ROS bag: the color topic (sensor_msgs/Image or CompressedImage)")
@@ -109,6 +113,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.chunk is not None and not args.temporal:
         raise ValueError("--chunk applies to --temporal only; add --temporal or drop --chunk.")
+    if args.frames_per_task is not None and args.temporal:
+        raise ValueError("--frames-per-task applies without --temporal (with it, a task is a chunk: --chunk).")
     if args.workers is not None and args.scheduler:
         raise ValueError("--workers sets the size of the local cluster; with --scheduler the cluster's own workers "
                          "run the frames: drop --workers.")
@@ -167,5 +173,6 @@ def _options(args: argparse.Namespace):
     return BatchOptions(method=method, params=params, temporal=args.temporal, chunk=args.chunk or DEFAULT_CHUNK,
                         rig=rig, rig_source=rig_source, align=align, fill_holes=fill_holes,
                         output_scale=args.output_scale, output_dtype=args.output_dtype, save_color=args.save_color,
-                        ply=args.ply, ply_stride=args.stride, video=args.video, fps=args.fps, max_dt=args.max_dt,
+                        ply=args.ply, ply_stride=args.stride, video=args.video, fps=args.fps,
+                        frames_per_task=args.frames_per_task, max_dt=args.max_dt,
                         saturated_invalid=args.saturated_invalid, overwrite=args.overwrite)
