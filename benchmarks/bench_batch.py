@@ -24,6 +24,7 @@ without depth noise.
 Usage::
 
     python benchmarks/bench_batch.py [--frames 48] [--size 240x320] [--scale 4] [--repeats 5] [--method gbp]
+                                     [--no-flicker | --no-speed]
 """
 
 from __future__ import annotations
@@ -51,71 +52,88 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--scale", type=int, default=4, help="color / depth resolution ratio")
     ap.add_argument("--repeats", type=int, default=5, help="timed runs per configuration (the median is reported)")
     ap.add_argument("--method", default="gbp", help="refinement method")
-    ap.add_argument("--no-flicker", action="store_true", help="only the frames per second")
+    only = ap.add_mutually_exclusive_group()
+    only.add_argument("--no-flicker", action="store_true", help="only the frames per second")
+    only.add_argument("--no-speed", action="store_true", help="only the flicker table (no timing)")
     return ap
 
 
-def main() -> None:
+def _cluster(stack: contextlib.ExitStack, workers: int):
     from distributed import Client, LocalCluster
 
+    cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                               host="127.0.0.1", dashboard_address=":0", silence_logs=logging.ERROR))
+    return stack.enter_context(Client(cluster))
+
+
+def _refined(pairs, args, client, temporal: bool) -> list[np.ndarray]:
     from depthrefine.batch import refine_many
-    from depthrefine.bench.metrics import flicker, rmse
-    from depthrefine.bench.synthetic import make_sequence
 
-    args = _parser().parse_args()
-    rows, cols = (int(v) for v in args.size.lower().split("x"))
-    seq = make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0)
-    pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(seq)]
-    gts = [f.depth_hr_gt for f in seq]
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    print(f"{args.frames} frames, color {cols}x{rows}, depth {cols // args.scale}x{rows // args.scale} "
-          f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians; {cores} cores; {_load()}")
+    chunk = (len(pairs) + 1) // 2  # two chunks: one per worker
+    return [d for _, d in refine_many(pairs, method=args.method, client=client, temporal=temporal, chunk=chunk)]
 
-    chunk = (args.frames + 1) // 2
+
+def speed(pairs, args) -> dict[bool, list[np.ndarray]]:
+    """Print the frames per second of each configuration; return the outputs of 2 workers (key: temporal)."""
     configs = (("1 worker", 1, False), ("2 workers", 2, False), ("2 workers --temporal", 2, True))
     times: dict[str, list[float]] = {label: [] for label, _, _ in configs}
     loads: dict[str, list[float]] = {label: [] for label, _, _ in configs}
     outputs: dict[str, list] = {}
     with contextlib.ExitStack() as stack:
-        clients = {}
-        for workers in (1, 2):
-            cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                       host="127.0.0.1", dashboard_address=":0",
-                                                       silence_logs=logging.ERROR))
-            clients[workers] = stack.enter_context(Client(cluster))
-            list(refine_many(pairs[:4 * workers], method=args.method, client=clients[workers]))  # warm-up
+        clients = {workers: _cluster(stack, workers) for workers in (1, 2)}
+        for workers, client in clients.items():
+            _refined(pairs[:4 * workers], args, client, False)  # warm-up: imports, compilation, first calls
         for _ in range(args.repeats):  # the configurations take turns, so that each sees the same load
             for label, workers, temporal in configs:
                 start = time.perf_counter()
-                outputs[label] = [d for _, d in refine_many(pairs, method=args.method, client=clients[workers],
-                                                            temporal=temporal, chunk=chunk)]
+                outputs[label] = _refined(pairs, args, clients[workers], temporal)
                 times[label].append(time.perf_counter() - start)
                 loads[label].append(os.getloadavg()[0])
-    results: dict[str, tuple[float, list]] = {}
+    fps = {}
     for label, _, _ in configs:
-        fps = args.frames / statistics.median(times[label])
-        results[label] = (fps, outputs[label])
-        print(f"  {label:22s} {fps:7.2f} frames/s   (runs: {', '.join(f'{args.frames / t:.2f}' for t in times[label])}; "
+        fps[label] = len(pairs) / statistics.median(times[label])
+        print(f"  {label:22s} {fps[label]:7.2f} frames/s   (runs: {', '.join(f'{len(pairs) / t:.2f}' for t in times[label])}; "
               f"1-min load after each: {', '.join(f'{v:.1f}' for v in loads[label])})", flush=True)
-    one, two = results["1 worker"][0], results["2 workers"][0]
-    print(f"  2 workers / 1 worker: {two / one:.2f}x;  temporal / independent (2 workers): "
-          f"{results['2 workers --temporal'][0] / two:.2f}x")
+    print(f"  2 workers / 1 worker: {fps['2 workers'] / fps['1 worker']:.2f}x;  temporal / independent (2 workers): "
+          f"{fps['2 workers --temporal'] / fps['2 workers']:.2f}x")
+    return {False: outputs["2 workers"], True: outputs["2 workers --temporal"]}
+
+
+def flicker_table(sequences, outputs) -> None:
+    """Flicker and mean RMSE of each sequence's outputs, each frame on its own and with the warm start."""
+    from depthrefine.bench.metrics import flicker, rmse
+
+    for name, seq in sequences.items():
+        truth = [f.depth_hr_gt for f in seq]
+        for temporal in (False, True):
+            mean_rmse = float(np.mean([rmse(o, g) for o, g in zip(outputs[name][temporal], truth)]))
+            print(f"  {name:18s} {'temporal' if temporal else 'independent':12s} flicker "
+                  f"{flicker(outputs[name][temporal], truth):7.3f} mm   mean RMSE {mean_rmse:7.2f} mm")
+
+
+def main() -> None:
+    from depthrefine.bench.synthetic import make_sequence
+
+    args = _parser().parse_args()
+    rows, cols = (int(v) for v in args.size.lower().split("x"))
+    sequences = {"depth noise 10 mm": make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0),
+                 "no depth noise": make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0,
+                                                 noise_std=0.0)}
+    pairs = {name: [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(seq)] for name, seq in sequences.items()}
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    print(f"{args.frames} frames, color {cols}x{rows}, depth {cols // args.scale}x{rows // args.scale} "
+          f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians; {cores} cores; {_load()}")
+    outputs = {}
+    if not args.no_speed:
+        outputs["depth noise 10 mm"] = speed(pairs["depth noise 10 mm"], args)
     if args.no_flicker:
         return
-    quiet = make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0, noise_std=0.0)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0",
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-        quiet_pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(quiet)]
-        quiet_out = {temporal: [d for _, d in refine_many(quiet_pairs, method=args.method, client=client,
-                                                          temporal=temporal, chunk=chunk)]
-                     for temporal in (False, True)}
-    rows_out = [("depth noise 10 mm", gts, {False: results["2 workers"][1], True: results["2 workers --temporal"][1]}),
-                ("no depth noise", [f.depth_hr_gt for f in quiet], quiet_out)]
-    for name, truth, outs in rows_out:
-        for temporal in (False, True):
-            mean_rmse = float(np.mean([rmse(o, g) for o, g in zip(outs[temporal], truth)]))
-            print(f"  {name:18s} {'temporal' if temporal else 'independent':12s} flicker "
-                  f"{flicker(outs[temporal], truth):7.3f} mm   mean RMSE {mean_rmse:7.2f} mm")
+    with contextlib.ExitStack() as stack:
+        client = _cluster(stack, 2)
+        for name in sequences:
+            if name not in outputs:
+                outputs[name] = {temporal: _refined(pairs[name], args, client, temporal) for temporal in (False, True)}
+    flicker_table(sequences, outputs)
 
 
 if __name__ == "__main__":
