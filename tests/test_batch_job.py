@@ -20,7 +20,7 @@ from depthrefine.bench.synthetic import make_sequence
 from depthrefine.cli import main
 from depthrefine.io import (InputFileError, depth_to_dtype, open_sequence, read_depth, read_ply, read_rgb,
                             scale_to_dtype, write_depth, write_rgb, write_rig)
-from depthrefine.methods.registry import get_method, refine, register_method
+from depthrefine.methods.registry import METHODS, get_method, refine, register_method
 from depthrefine.rig import CameraModel, StereoRig
 
 distributed = pytest.importorskip("distributed")
@@ -43,6 +43,20 @@ def client():
     with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=":0",
                       silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         yield client
+
+
+@pytest.fixture
+def registered():
+    """``registered(name, func, **options)``: a method registered for one test only (other tests list them all)."""
+    names = []
+
+    def add(name, func, **options):
+        register_method(name, func, **options)
+        names.append(name)
+
+    yield add
+    for name in names:
+        METHODS.pop(name, None)
 
 
 @pytest.fixture(scope="module")
@@ -136,13 +150,13 @@ def test_unpaired_frames_are_listed_not_failures(client, frames, tmp_path):
     assert json.loads((tmp_path / "out" / "batch.json").read_text())["unpaired"] == seq.unpaired
 
 
-def test_a_method_that_fails_a_frame_fails_only_it(client, frames, tmp_path):
+def test_a_method_that_fails_a_frame_fails_only_it(client, frames, registered, tmp_path):
     def fragile(depth_lr, rgb_hr, *, params=None, progress=None):
         if depth_lr.flat[0] == frames[1].depth_lr.flat[0]:
             raise RuntimeError("boom")
         return refine(depth_lr, rgb_hr, method="nearest")
 
-    register_method("fragile_test", fragile, params_type=None)
+    registered("fragile_test", fragile, params_type=None)
     src = write_folder(tmp_path / "seq", [(f.depth_lr, f.rgb_hr) for f in frames[:3]])
     summary = BatchJob(open_sequence(src), tmp_path / "out", BatchOptions(method="fragile_test")).run(client)
     assert summary.exit_status == 1 and [k for k, _, _ in summary.failed] == ["0001"]
@@ -151,7 +165,7 @@ def test_a_method_that_fails_a_frame_fails_only_it(client, frames, tmp_path):
     assert on_disk == done == {"0000", "0002"}
 
 
-def test_each_task_caps_the_kernel_threads_at_its_share_and_restores_them(client):
+def test_each_task_caps_the_kernel_threads_at_its_share_and_restores_them(client, registered):
     """One worker with two threads in this process: each task gets max(1, cores // 2) kernel threads."""
     import os
 
@@ -160,7 +174,7 @@ def test_each_task_caps_the_kernel_threads_at_its_share_and_restores_them(client
     def probe(depth_lr, rgb_hr, *, params=None, progress=None):
         return np.full(rgb_hr.shape[:2], 100 * _numba.threads() + cv2.getNumThreads(), np.float32)
 
-    register_method("threads_probe", probe, params_type=None)
+    registered("threads_probe", probe, params_type=None)
     before = (_numba.threads(), cv2.getNumThreads())
     got = dict(refine_many({0: (np.ones((2, 2)), np.zeros((4, 4, 3), np.uint8))}, method="threads_probe",
                            client=client))
