@@ -215,12 +215,15 @@ class BatchJob:
 
     Examples
     --------
-    >>> from depthrefine.io import open_sequence                      # doctest: +SKIP
-    >>> from depthrefine.batch import BatchJob, BatchOptions, local_client
-    >>> job = BatchJob(open_sequence("recording/"), "out", BatchOptions(method="gbp"))
-    >>> with local_client() as client:
-    ...     summary = job.run(client)
-    >>> print(summary.line())
+    ::
+
+        from depthrefine.io import open_sequence
+        from depthrefine.batch import BatchJob, BatchOptions, local_client
+
+        job = BatchJob(open_sequence("recording.mkv"), "out", BatchOptions(method="gbp"))
+        with local_client() as client:                  # a LocalCluster, or local_client(scheduler=ADDRESS)
+            summary = job.run(client)
+        print(summary.line())                           # batch: 300 frames: 300 refined, ...
     """
 
     def __init__(self, sequence: Any, outdir: str | os.PathLike, options: BatchOptions | None = None):
