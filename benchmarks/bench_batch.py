@@ -96,7 +96,32 @@ def speed(pairs, args) -> dict[bool, list[np.ndarray]]:
               f"1-min load after each: {', '.join(f'{v:.1f}' for v in loads[label])})", flush=True)
     print(f"  2 workers / 1 worker: {fps['2 workers'] / fps['1 worker']:.2f}x;  temporal / independent (2 workers): "
           f"{fps['2 workers --temporal'] / fps['2 workers']:.2f}x")
+    one, two = (_frame_ms(pairs, args, threads) for threads in (1, 2))
+    print(f"  one frame in this process: {one:.1f} ms with 1 kernel thread, {two:.1f} ms with 2 ({one / two:.2f}x; "
+          f"what 1 worker on 2 cores gains inside a frame, the most 2 workers can gain over it is {2 * two / one:.2f}x)")
     return {False: outputs["2 workers"], True: outputs["2 workers --temporal"]}
+
+
+def _frame_ms(pairs, args, threads: int, runs: int = 10) -> float:
+    """Median milliseconds of one frame refined here with ``threads`` kernel threads (numba and OpenCV)."""
+    import cv2
+
+    from depthrefine import _numba
+    from depthrefine.methods.registry import refine
+
+    before = _numba.set_threads(threads), cv2.getNumThreads()
+    cv2.setNumThreads(threads)
+    try:
+        times = []
+        for i in range(runs + 1):
+            _, depth, rgb = pairs[i % len(pairs)]
+            start = time.perf_counter()
+            refine(depth, rgb, method=args.method)
+            times.append(time.perf_counter() - start)
+    finally:
+        _numba.set_threads(before[0])
+        cv2.setNumThreads(before[1])
+    return 1000 * statistics.median(times[1:])
 
 
 def flicker_table(sequences, outputs) -> None:
