@@ -260,7 +260,7 @@ class BatchJob:
     # ------------------------------------------------------------------ set-up
 
     def _chain(self) -> tuple[Any, str | None, Any]:
-        """The rig, where it came from, and the alignment settings (None, None, None: registered frames)."""
+        """The rig, where it came from, and the alignment settings (rig None: registered frames, refined as they are)."""
         from ..io import InputFileError
         from ..rig.chain import AlignSettings
 
