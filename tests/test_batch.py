@@ -238,7 +238,7 @@ def test_a_run_killed_midway_resumes_and_every_output_matches_refine(cluster, tm
     runner = tmp_path / "runner.py"
     runner.write_text(SLOW_RUNNER)
     cmd = [sys.executable, str(runner), "batch", str(src), "-o", str(out), "--method", "slow_thesis",
-           "--scheduler", cluster.scheduler.address]
+           "--frames-per-task", "1", "--scheduler", cluster.scheduler.address]
     proc = subprocess.Popen(cmd, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60
     while len(list(out.glob("[0-9]*.png"))) < 3 and time.monotonic() < deadline and proc.poll() is None:
@@ -486,9 +486,9 @@ def test_a_scheduler_without_workers_is_one_line(frames, tmp_path, capsys, monke
 
     from distributed import LocalCluster
 
-    import depthrefine.batch
+    import depthrefine.batch._schedule
 
-    monkeypatch.setattr(depthrefine.batch, "_WORKER_WAIT", 1)
+    monkeypatch.setattr(depthrefine.batch._schedule, "_WORKER_WAIT", 1)
     src = write_folder(tmp_path / "seq", frames[:1])
     with LocalCluster(n_workers=0, processes=False, protocol="tcp://", host="127.0.0.1", dashboard_address=":0",
                       silence_logs=logging.ERROR) as empty:

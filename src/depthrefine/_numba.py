@@ -26,7 +26,7 @@ from typing import Callable
 
 import numba
 
-__all__ = ["njit", "run_split", "threads", "FirstCompileWarning", "cold_kernels", "note_first_compile"]
+__all__ = ["njit", "run_split", "threads", "set_threads", "FirstCompileWarning", "cold_kernels", "note_first_compile"]
 
 #: Whether the no-cache warning was given (once per process, not once per kernel).
 _warned_no_cache = False
@@ -106,9 +106,37 @@ _pool_pid: int | None = None
 _pool_lock = threading.Lock()
 
 
+#: The cap :func:`set_threads` put on :func:`threads` (None: no cap).
+_thread_cap: int | None = None
+
+
 def threads() -> int:
-    """How many threads :func:`run_split` uses: ``NUMBA_NUM_THREADS`` (default: the number of CPUs)."""
+    """How many threads :func:`run_split` uses: ``NUMBA_NUM_THREADS`` (default: the number of CPUs), or the cap
+    of :func:`set_threads`."""
+    if _thread_cap is not None:
+        return _thread_cap
     return max(1, int(numba.config.NUMBA_NUM_THREADS))
+
+
+def set_threads(count: int | None) -> int | None:
+    """Cap the threads of this process's kernels at ``count`` (None: lift the cap); return the previous cap.
+
+    For a process that shares the machine's cores with others, e.g. one of
+    several Dask workers (``depthrefine.batch`` gives each its share). The
+    results do not depend on it (:func:`run_split` cuts work into parts whose
+    bits do not depend on the cut).
+
+    Examples
+    --------
+    >>> previous = set_threads(1); threads()
+    1
+    >>> set_threads(previous)
+    1
+    """
+    global _thread_cap
+    previous = _thread_cap
+    _thread_cap = None if count is None else max(1, int(count))
+    return previous
 
 
 def _workers(count: int) -> ThreadPoolExecutor:

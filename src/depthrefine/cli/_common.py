@@ -175,15 +175,13 @@ def output_depth(args: argparse.Namespace, depth: np.ndarray, input_dtype: Any) 
     """
     import numpy as np
 
-    from ..io import scale_to_dtype
+    from ..io import output_values
 
-    dtype = np.dtype(args.output_dtype or input_dtype)
-    if args.output_scale is None and args.output_dtype is None:
-        return depth, dtype
-    scale = 1.0 if args.output_scale is None else args.output_scale
     try:
-        return scale_to_dtype(depth, scale, dtype), dtype
+        return output_values(depth, input_dtype, scale=args.output_scale, dtype=args.output_dtype)
     except ValueError as exc:
+        scale = 1.0 if args.output_scale is None else args.output_scale
+        dtype = np.dtype(args.output_dtype or input_dtype)
         raise ValueError(f"--output-scale {scale:g} --output-dtype {dtype}: {exc}") from None
 
 

@@ -15,7 +15,7 @@ if TYPE_CHECKING:
 
     from ..io import ChainSettings
 
-__all__ = ["add_units_options", "add_align_options", "chain_settings", "warn_implausible_units"]
+__all__ = ["add_units_options", "add_align_options", "align_overrides", "chain_settings", "warn_implausible_units"]
 
 
 def add_units_options(p: argparse.ArgumentParser) -> None:
@@ -28,15 +28,18 @@ def add_units_options(p: argparse.ArgumentParser) -> None:
                             "(255 at z_min metres: C = 255 * z_min)")
 
 
-def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argparse.Action] | None = None) -> None:
-    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value).
+def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argparse.Action] | None = None,
+                      method_flag: str = "--method") -> None:
+    """The alignment options shared by ``align``, ``run`` and ``batch`` (None = take the settings file's value).
 
-    ``--method`` (dest ``align_method``) is the alignment method in both;
-    ``method_action`` replaces its plain store (it then checks the choices).
+    ``method_flag`` (dest ``align_method``) is the alignment method: ``--method``
+    in ``align`` and ``run``, ``--align-method`` in ``batch`` (whose
+    ``--method`` is the refinement's); ``method_action`` replaces its plain
+    store (it then checks the choices).
     """
     how: dict[str, Any] = ({"action": method_action, "metavar": "{" + ",".join(ALIGN_METHODS) + "}"}
                            if method_action is not None else {"choices": ALIGN_METHODS})
-    p.add_argument("--method", dest="align_method", default=None, **how,
+    p.add_argument(method_flag, dest="align_method", default=None, **how,
                    help="alignment method: reproject (calibrated, any rig; default) or shift (the thesis's "
                         "horizontal shift: a parallel rig whose color image shows the depth camera's view; "
                         "refused when the background would land more than 1 depth pixel off)")
@@ -61,18 +64,8 @@ def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argpars
                         "the depth is aligned to the undistorted color camera")
 
 
-def chain_settings(args: argparse.Namespace) -> ChainSettings:
-    """The chain settings of ``--rig`` (and ``--settings``), with the command-line options on top."""
-    from ..io import read_chain_settings
-
-    base = read_chain_settings(args.rig)
-    settings_file = getattr(args, "settings", None)
-    if settings_file:
-        extra = read_chain_settings(settings_file)
-        base = dataclasses.replace(extra, rig=base.rig or extra.rig,
-                                   rig_source=base.rig_source if base.rig is not None else extra.rig_source)
-    if base.rig is None:
-        raise CliError(f"{args.rig} holds no rig; give a rig file from `depthrefine calibrate-stereo`.")
+def align_overrides(args: argparse.Namespace) -> dict[str, Any]:
+    """The ``AlignSettings`` fields the alignment options set (the options left out are not in it)."""
     overrides: dict[str, Any] = {}
     for option, key in (("align_method", "method"), ("factor", "factor"), ("radial", "radial"),
                         ("slope", "slope"), ("background", "background"), ("color_side", "color_side"),
@@ -86,6 +79,22 @@ def chain_settings(args: argparse.Namespace) -> ChainSettings:
         overrides.update(inverse_scale=args.inverse_depth_scale, depth_units=None)
     if args.no_undistort:
         overrides.update(undistort_depth=False, undistort_color=False)
+    return overrides
+
+
+def chain_settings(args: argparse.Namespace) -> ChainSettings:
+    """The chain settings of ``--rig`` (and ``--settings``), with the command-line options on top."""
+    from ..io import read_chain_settings
+
+    base = read_chain_settings(args.rig)
+    settings_file = getattr(args, "settings", None)
+    if settings_file:
+        extra = read_chain_settings(settings_file)
+        base = dataclasses.replace(extra, rig=base.rig or extra.rig,
+                                   rig_source=base.rig_source if base.rig is not None else extra.rig_source)
+    if base.rig is None:
+        raise CliError(f"{args.rig} holds no rig; give a rig file from `depthrefine calibrate-stereo`.")
+    overrides = align_overrides(args)
     try:
         align = dataclasses.replace(base.align, **overrides)
     except (TypeError, ValueError) as exc:

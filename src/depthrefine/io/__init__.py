@@ -11,8 +11,8 @@ from .._lazy import lazy_exports
 _EXPORTS = {
     "._files": ("InputFileError", "atomic_directory", "atomic_write", "check_distinct_inputs", "check_output",
                 "check_output_dir"),
-    "._images": ("DEPTH_SUFFIXES", "check_depth_format", "depth_to_dtype", "image_shape", "read_depth", "read_rgb",
-                 "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
+    "._images": ("DEPTH_SUFFIXES", "check_depth_format", "depth_to_dtype", "image_shape", "output_values", "read_depth",
+                 "read_rgb", "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
     "._params": ("read_mapping", "read_patch_layout"),
     "._intermediates": ("write_intermediates",),
     "._camera": ("ChainSettings", "read_camera", "read_chain_settings", "read_depth_units", "read_rig", "write_camera",
@@ -25,6 +25,7 @@ _EXPORTS = {
     "._sequences": ("Frame", "Sequence", "open_sequence"),
     "._catalog": ("DATASETS", "DataSource", "Dataset", "get_dataset"),
     "._fetch": ("DataProblem", "fetch_dataset", "file_sha256", "find_datasets", "verify_data", "verify_dataset"),
+    "._video": ("VIDEO_SUFFIXES", "VideoWriter"),
     "._datasets": ("DATASET_READERS", "REAL_TOF_CAPTURES", "TRIPLET_FOLDERS", "DatasetScene", "dataset_folder",
                    "read_dataset", "read_real_tof", "read_rgbd_pairs", "read_scene_folders", "read_triplets"),
 }

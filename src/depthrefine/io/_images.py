@@ -274,17 +274,19 @@ def read_depth(
 def depth_to_dtype(depth: np.ndarray, dtype: np.dtype | type) -> np.ndarray:
     """Convert a float depth map (NaN = invalid) to ``dtype`` for writing.
 
-    Integers: rounded, valid pixels clipped to ``[1, max]``, NaN -> 0.
-    Floats: NaN -> 0 (0 means no measurement in a file).
+    Integers: rounded, valid pixels clipped to ``[1, max]``; no measurement
+    (NaN, inf, 0 or negative) -> 0. Floats: no measurement -> 0 (0 means no
+    measurement in a file).
 
     Examples
     --------
-    >>> depth_to_dtype(np.array([np.nan, 0.2, 7.6, 300.0], np.float32), np.uint8).tolist()
-    [0, 1, 8, 255]
+    >>> depth_to_dtype(np.array([np.nan, 0.2, 7.6, 300.0, 0.0], np.float32), np.uint8).tolist()
+    [0, 1, 8, 255, 0]
     """
     dtype = np.dtype(dtype)
     depth = np.asarray(depth, dtype=np.float64)
-    invalid = ~np.isfinite(depth)
+    with np.errstate(invalid="ignore"):
+        invalid = ~(np.isfinite(depth) & (depth > 0))
     if dtype.kind in "ui":
         info = np.iinfo(dtype)
         out = np.clip(np.floor(np.where(invalid, 0, depth) + 0.5), max(1, info.min), info.max)
@@ -333,6 +335,27 @@ def scale_to_dtype(depth: np.ndarray, scale: float, dtype: np.dtype | type) -> n
                 "choose a larger scale or a float output (.tif, .npy)."
             )
     return scaled.astype(np.float32)
+
+
+def output_values(depth: np.ndarray, input_dtype: np.dtype | type, *, scale: float | None = None,
+                  dtype: np.dtype | type | str | None = None) -> tuple[np.ndarray, np.dtype]:
+    """The depth to write and the dtype to write it in, after an output scale and dtype.
+
+    Without either: ``depth`` itself and ``input_dtype`` (the output keeps the
+    input's type). With one of them the conversion is explicit
+    (:func:`scale_to_dtype`), so a value the type cannot hold is a
+    ``ValueError`` instead of a silent clip.
+
+    Examples
+    --------
+    >>> values, dtype = output_values(np.array([0.5, 2.25], np.float32), np.float32, scale=1000, dtype="uint16")
+    >>> values.tolist(), str(dtype)
+    ([500.0, 2250.0], 'uint16')
+    """
+    out_dtype = np.dtype(dtype or input_dtype)
+    if scale is None and dtype is None:
+        return depth, out_dtype
+    return scale_to_dtype(depth, 1.0 if scale is None else scale, out_dtype), out_dtype
 
 
 def check_depth_format(path: str | os.PathLike, dtype: np.dtype | type) -> str:

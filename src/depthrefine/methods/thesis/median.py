@@ -39,7 +39,6 @@ ties included. Borders replicate the edge pixel, as ``cv2.medianBlur`` and
 from __future__ import annotations
 
 import functools
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -325,6 +324,7 @@ def median_filter(image: np.ndarray, size: int) -> np.ndarray:
     >>> int(median_filter(img, 7).max())
     0
     """
+    from ..._numba import threads
     from . import _jit
 
     if size < 3 or size % 2 == 0:
@@ -335,7 +335,7 @@ def median_filter(image: np.ndarray, size: int) -> np.ndarray:
     table, n_slots, (out0, out1) = median_network(size)
     rows = planes.shape[0]
     pairs = (rows + 1) // 2
-    n_bands = max(1, min(os.cpu_count() or 1, pairs // _MIN_PAIRS_PER_TASK))
+    n_bands = max(1, min(threads(), pairs // _MIN_PAIRS_PER_TASK))
     bounds = [min(rows, 2 * (pairs * i // n_bands)) for i in range(n_bands + 1)]
 
     if size in GENERATED_SIZES and planes.shape[2] in GENERATED_CHANNELS:

@@ -14,7 +14,6 @@ are the manual patch rectangles, in color-image pixels.
 from __future__ import annotations
 
 import functools
-import os
 import threading
 import time
 import warnings
@@ -522,7 +521,9 @@ def _solve_patches(ctx: _Context, lr_patches: list[tuple[int, int, int, int]]) -
     (NumPy and OpenCV release the GIL) and yielded in order, so the result
     does not depend on timing.
     """
-    workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
+    from ..._numba import threads  # the cores this process may use (depthrefine.batch gives a worker its share)
+
+    workers = min(len(lr_patches), threads(), _MAX_THREADS)
     solve = functools.partial(_solve_patch, ctx, lr_patches)
     if workers <= 1 or ctx.lab.shape[0] * ctx.lab.shape[1] < _PARALLEL_MIN_PIXELS:
         for index in range(len(lr_patches)):
