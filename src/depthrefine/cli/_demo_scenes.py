@@ -14,7 +14,7 @@ from ..evaluate import rmse
 from ..io import (atomic_directory, load_capture, read_calibration, write_depth, write_figure, write_ply, write_rgb,
                   write_rig)
 from ..methods.registry import DEFAULT_METHOD, refine
-from ..rig.chain import AlignSettings, align_pair, keep_unmeasured
+from ..rig.chain import AlignSettings, align_pair, keep_unmeasured, nearest_on_grid, refine_pair
 from ..rig.edges import color_edges, depth_silhouette, edge_overlap
 from ..rig.pointcloud import depth_to_points
 from ._common import progress_bar
@@ -43,15 +43,17 @@ def _mug(tmp: Path) -> tuple[dict, list[str]]:
     pair = align_pair(capture.depth, capture.rgb, rig, settings=AlignSettings(depth_units=capture.depth_units))
     update, close = progress_bar(f"demo mug: {method}", enabled=None)
     try:
-        refined = keep_unmeasured(refine(pair.depth_lr, pair.rgb_hr, method=method, progress=update), pair.depth_lr)
+        refined = keep_unmeasured(refine_pair(pair.depth_lr, pair.rgb_hr, method=method, progress=update)[0],
+                                  pair.depth_lr)
     finally:
         close()
-    aligned_fit = edge_overlap(pair.depth_lr, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
+    aligned = nearest_on_grid(pair.depth_lr, pair.rgb_hr.shape[:2])  # as the refinement spreads it
+    aligned_fit = edge_overlap(aligned, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
     refined_fit = edge_overlap(refined, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
     limits = (150.0, 2300.0)
     fig = viz.comparison_figure(
         pair.rgb_hr,
-        [("depth reprojected into the color camera\n(factory calibration)", pair.depth_lr),
+        [("depth reprojected into the color camera\n(factory calibration)", aligned),
          (f"refined ({method})", refined)],
         units="mm", zoom=MUG_DETAIL, limits=limits, ncols=3,
         title="Azure Kinect (NFOV unbinned 640x576 ToF, 720p color): the whole chain on one real capture",
@@ -60,7 +62,7 @@ def _mug(tmp: Path) -> tuple[dict, list[str]]:
     r0, r1, c0, c1 = MUG_DETAIL
     # The registration check: the reprojected depth's outline (red) on the color edges (green).
     write_rgb(tmp / "edges.png",
-              edges_picture(pair.rgb_hr, pair.depth_lr, near=MUG_NEAR_MM, far=MUG_FAR_MM)[r0:r1, c0:c1])
+              edges_picture(pair.rgb_hr, aligned, near=MUG_NEAR_MM, far=MUG_FAR_MM)[r0:r1, c0:c1])
     write_depth(tmp / "refined.png", refined, dtype=np.uint16)
     write_depth(tmp / "aligned.png", pair.depth_lr, dtype=np.uint16)
     write_rig(tmp / "rig.json", rig, extra={"imported_from": "calibration.json (Azure Kinect factory calibration)",
