@@ -349,3 +349,17 @@ def test_run_with_a_non_integer_ratio_applies_the_scale_step(captures, tmp_path,
     assert code == 0, err
     assert "non-integer ratio 7.39" in err and "depth enlarged x7, color resized x0.946" in err
     assert read_depth(out).shape == (533, 710)
+
+
+def test_run_save_color_and_factor_options(captures, tmp_path, capsys):
+    common = ["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["settings"]),
+              "--refine-method", "bilinear"]
+    out, color = tmp_path / "refined.png", tmp_path / "color.png"
+    assert main([*common, "-o", str(out), "--save-color", str(color), "--factor", "7.5"]) == 0, capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "s = 7.5" in err and "90x67 grid" in err
+    assert read_depth(out).shape == (504, 672) and cv2.imread(str(color)).shape == (504, 672, 3)
+    for bad, message in ((["--save-color", str(tmp_path / "c.bmp")], "unknown format '.bmp'"),
+                         (["--factor", "0.5"], "expected a number >= 1")):
+        assert main([*common, "-o", str(tmp_path / "x.png"), *bad]) == 2
+        assert message in capsys.readouterr().err and not (tmp_path / "x.png").exists()
