@@ -93,8 +93,8 @@ def _figure(panels, path: str) -> None:
         ax.imshow(edges, cmap="autumn", vmin=0, vmax=2, interpolation="nearest")
         ax.set_title(title, fontsize=8)
         ax.set_axis_off()
-    fig.suptitle(f"Azure Kinect mug, rows {r0}-{r1}, cols {c0}-{c1}: refined depth (gray, 200-2300 mm; "
-                 "white: no measurement) with the color image's Canny edges (red)", fontsize=8)
+    fig.suptitle(f"Azure Kinect mug, rows {r0}-{r1}, cols {c0}-{c1}: the refined depth (gray, 200-2300 mm;\n"
+                 "white: no measurement) with the color image's Canny edges (orange)", fontsize=8)
     fig.savefig(path)
 
 
