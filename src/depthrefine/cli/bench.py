@@ -179,6 +179,15 @@ def _protocol_cases(args: argparse.Namespace):
     return cases, skipped
 
 
+def protocol_params(protocol: str) -> dict:
+    """``{method: params}`` a protocol tuned for itself (``Protocol.method_params``); the defaults for the rest."""
+    from ..methods.registry import get_method
+
+    entry = PROTOCOLS.get(protocol)
+    tuned = entry.method_params if entry is not None else {}
+    return {m: get_method(m).params_type(**fields) for m, fields in tuned.items()}
+
+
 #: With --pairs, a figure for at most this many triplets.
 MAX_PAIR_FIGURES = 12
 
@@ -203,7 +212,7 @@ def _run(cases, methods, scales, folder: Path | None, skipped=()):
                 want = folder is not None and len(figures) < MAX_PAIR_FIGURES
             else:
                 want = folder is not None and case.scale == figure_scale
-            result = run_benchmark([case], methods, keep=(lambda c: want),
+            result = run_benchmark([case], methods, params=protocol_params(case.protocol), keep=(lambda c: want),
                                    progress=lambda done, _total: bar.update(offset + done - bar.n))
             rows += result.rows
             if want:
@@ -226,7 +235,9 @@ def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
     from ..methods.registry import get_method
 
     params_used = {m: params_dict(get_method(m).default_params()) for m in methods}
-    tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES if tuned_on_scenes(p))
+    own = [p for p in TUNING_SCENES if PROTOCOLS[p].method_params]  # protocols that tune the peers for themselves
+    tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES
+                      if tuned_on_scenes(p) and p not in own)
     left_out = "; ".join(f"{p} {s} ({left_out_reason(p, s)})" for p, scenes in TUNING_SCENES.items() for s in scenes)
     present = {r.protocol for r in rows}
     notes = [
@@ -234,6 +245,11 @@ def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
         f"{tuned}. Every mean leaves out these scenes: {left_out}. The thesis method runs with its thesis "
         "defaults.",
     ]
+    for p in (p for p in own if p in present):
+        fields = "; ".join(f"{m}: " + ", ".join(f"{k} = {v}" for k, v in f.items())
+                           for m, f in PROTOCOLS[p].method_params.items() if m in methods)
+        notes.append(f"On the {p} protocol the peers use parameters tuned on its own tuning scenes "
+                     f"({', '.join(tuned_on_scenes(p))}; benchmarks/tune_peers.py --protocol {p}): {fields}.")
     if "gbp" in methods:
         notes.append("gbp's defaults were chosen on the same tuning scenes, except hole_margin and local_range "
                      "(picked with the realtof Kinect capture in view) and point_lambda (picked on generated "
@@ -243,6 +259,11 @@ def _write_report(folder: Path, rows, methods, figures, skipped=()) -> None:
         notes.append("The tuning set was revised after the lu results had been seen (noise-free middlebury30 "
                      "scenes were added when the Park-only tuning oversmoothed lu at x16), so lu is not a clean "
                      "hold-out.")
+    if "sensor" in present:
+        notes.append("The sensor protocol's input is simulated with our own sensor models (a depth camera beside "
+                     "the color camera, its footprint read as an iToF or a dToF pixel, noise, dark dropouts, a "
+                     "calibration error, reprojected with the rig chain; fixed seeds; see docs/bench.md): it is "
+                     "not a published protocol. Its scenes are <scene>-<model>; each model is its own column.")
     if "tof" in present:
         notes.append("The tof protocol's input is simulated with our own sensor model (footprint integration, "
                      "noise growing with distance, dropouts on dark surfaces, 8-bit quantisation, fixed seed; see "
