@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 
-from depthrefine.cli._demo_scenes import MUG_FAR_MM, MUG_NEAR_MM
+from depthrefine.bench.demo import MUG_FAR_MM, MUG_NEAR_MM
 from depthrefine.io import load_capture, read_calibration
 from depthrefine.methods.registry import DEFAULT_METHOD
 from depthrefine.rig.chain import AlignSettings, align_pair, keep_unmeasured, nearest_on_grid, refine_pair

@@ -28,7 +28,8 @@ import pytest
 
 from conftest import shared_data_path
 from depthrefine.cli import main
-from depthrefine.io import load_capture, read_calibration, read_depth, read_ply, read_rgb, read_rig, sample_folder
+from depthrefine.io import (DATASETS, file_sha256, load_capture, read_calibration, read_depth, read_ply, read_rgb,
+                            read_rig, sample_folder)
 from depthrefine.rig import Board, StereoRig, calibrate_from_views, detect_board
 from depthrefine.rig.chain import AlignSettings, align_pair, nearest_on_grid
 from depthrefine.rig.edges import edge_overlap
@@ -88,15 +89,20 @@ def test_calibrate_cli_on_real_charuco_views(tmp_path, capsys):
 # ----------------------------------------------------------------------------
 
 
-def test_shipped_captures_are_the_shared_files():
-    shared = shared_data_path("real_tof")
-    pairs = [("mug", "depth.png", "azure_kinect_mug/derived/depth_640x576_mm.png"),
-             ("mug", "color.jpg", "azure_kinect_mug/derived/color_1280x720.jpg"),
-             ("mug", "calibration.json", "azure_kinect_mug/calibration.json"),
-             ("bookshelf", "depth.png", "iphone_lidar_bookshelf/arkit_depth.png"),
-             ("bookshelf", "color.jpg", "iphone_lidar_bookshelf/image.jpg")]
-    for scene, name, source in pairs:
-        assert (sample_folder(scene) / name).read_bytes() == (shared / source).read_bytes(), name
+def test_shipped_captures_are_the_benchmark_files():
+    """The shipped captures have the bytes of the data sets' files (the catalog's SHA-256 of the shared copies)."""
+    pairs = [("mug", "depth.png", "azure_kinect_mug", "derived/depth_640x576_mm.png"),
+             ("mug", "color.jpg", "azure_kinect_mug", "derived/color_1280x720.jpg"),
+             ("mug", "calibration.json", "azure_kinect_mug", "calibration.json"),
+             ("mug", "LICENSE", "azure_kinect_mug", "LICENSE.pyk4a-MIT.txt"),
+             ("bookshelf", "depth.png", "iphone_lidar_bookshelf", "arkit_depth.png"),
+             ("bookshelf", "color.jpg", "iphone_lidar_bookshelf", "image.jpg"),
+             ("bookshelf", "LICENSE", "iphone_lidar_bookshelf", "LICENSE.PromptDA-Apache-2.0.txt")]
+    for scene, name, dataset, source in pairs:
+        assert file_sha256(sample_folder(scene) / name) == DATASETS[dataset].checksums[source], name
+    art = DATASETS["middlebury2005_park"].checksums
+    for name in ("color.png", "gt_disp.png", "noisy_x4.png", "noisy_x8.png", "noisy_x16.png"):
+        assert file_sha256(sample_folder("art") / name) == art[f"art/{name}"], name
 
 
 def test_shipped_checksums():

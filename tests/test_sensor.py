@@ -109,7 +109,7 @@ def test_bad_models_and_inputs_are_refused():
 def test_sensor_protocol_cases_and_report_columns(tmp_path):
     from depthrefine.bench import load_cases, run_benchmark
     from depthrefine.bench.report import overview_markdown, summary_tables
-    from depthrefine.cli.bench import protocol_params
+    from depthrefine.bench.suite import protocol_params
 
     gt, rgb = _scene(rows=64, cols=128)
     rgb[:, 40:80] = (30, 160, 90)

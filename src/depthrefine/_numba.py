@@ -26,10 +26,19 @@ from typing import Callable
 
 import numba
 
-__all__ = ["njit", "run_split", "threads"]
+__all__ = ["njit", "run_split", "threads", "FirstCompileWarning", "cold_kernels", "note_first_compile"]
 
 #: Whether the no-cache warning was given (once per process, not once per kernel).
 _warned_no_cache = False
+#: The kernels made by :func:`njit`, by the module that defines them.
+_KERNELS: dict[str, list] = {}
+
+
+class FirstCompileWarning(UserWarning):
+    """The compiled kernels are not in numba's on-disk cache yet: this run compiles them once.
+
+    The command line shows it as ``depthrefine: note: compiling ... once, about N s``.
+    """
 
 
 def njit(func=None, /, **options):
@@ -42,7 +51,9 @@ def njit(func=None, /, **options):
     def wrap(f):
         global _warned_no_cache
         try:
-            return numba.njit(cache=True, nogil=True, **options)(f)
+            kernel = numba.njit(cache=True, nogil=True, **options)(f)
+            _KERNELS.setdefault(f.__module__, []).append(kernel)
+            return kernel
         except RuntimeError:  # numba found no writable cache directory (package and user cache dir)
             if not _warned_no_cache:
                 _warned_no_cache = True
@@ -51,6 +62,42 @@ def njit(func=None, /, **options):
                               "directory.", RuntimeWarning, stacklevel=3)
             return numba.njit(nogil=True, **options)(f)
     return wrap if func is None else wrap(func)
+
+
+def _cached(kernel) -> bool:
+    """Whether numba's on-disk cache holds a current entry for ``kernel`` (its index file, same source stamp).
+
+    Reads one small index file; numba's private cache objects are used when
+    present, else only the index file's existence counts.
+    """
+    cache_file = getattr(getattr(kernel, "_cache", None), "_cache_file", None)
+    if cache_file is None:
+        return False  # compiled in memory: every process compiles
+    try:
+        return bool(cache_file._load_index())
+    except Exception:  # noqa: BLE001 - another numba version: fall back to the file's existence
+        return os.path.exists(getattr(cache_file, "_index_path", ""))
+
+
+def cold_kernels(module: str) -> list[str]:
+    """Names of the kernels of ``module`` (made by :func:`njit`) that numba has not cached on disk yet."""
+    return [k.__name__ for k in _KERNELS.get(module, ()) if not _cached(k)]
+
+
+def note_first_compile(module: str, *, what: str, seconds: float) -> None:
+    """Warn (:class:`FirstCompileWarning`) when none of ``module``'s kernels is in numba's disk cache yet.
+
+    Called once, where the kernel module is imported (the first use of the
+    method in a process). A module none of whose kernels is cached has never
+    run here (or its source changed): its first call compiles for about
+    ``seconds`` (``benchmarks/first_call.py``), later runs load the kernels
+    from the cache. Kernels that only some inputs need compile on their first
+    use without a note.
+    """
+    kernels = _KERNELS.get(module, ())
+    if kernels and len(cold_kernels(module)) == len(kernels):
+        warnings.warn(f"compiling {what} once, about {seconds:g} s (numba; cached on disk for the next runs)",
+                      FirstCompileWarning, stacklevel=3)
 
 
 #: The worker threads of :func:`run_split`, per process (a forked child starts its own).

@@ -19,6 +19,7 @@ __all__ = [
     "as_depth",
     "check_depth",
     "check_rgb",
+    "guide_uint8",
     "check_int",
     "check_choice",
     "is_int",
@@ -138,6 +139,13 @@ def as_rgb_float(rgb: np.ndarray) -> np.ndarray:
     if rgb.dtype == np.uint16:
         return rgb.astype(np.float32) / np.float32(65535.0)
     return rgb.astype(np.float32, copy=True)
+
+
+def guide_uint8(rgb: np.ndarray) -> np.ndarray:
+    """A checked uint8/uint16/float RGB image as contiguous uint8 (rounded; uint8 input as it is), for OpenCV's guides."""
+    if rgb.dtype == np.uint8:
+        return np.ascontiguousarray(rgb)
+    return np.clip(as_rgb_float(rgb) * 255.0 + 0.5, 0, 255).astype(np.uint8)
 
 
 # ----------------------------------------------------------------------------

@@ -14,6 +14,8 @@ matplotlib ``Figure``; the ``bench`` command writes them:
 - :func:`rmse_scale_figure`: mean RMSE against scale per method;
 - :func:`html_page`: all of it on one page.
 
+The figures live in :mod:`depthrefine.bench.figures` and are re-exported here.
+
 Means leave out the peers' tuning scenes (``split == "tune"``) unless a
 protocol has no other scene.
 """
@@ -28,13 +30,11 @@ import statistics
 from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
-import numpy as np
-
-from .._lazy import cv2
 from ..methods._names import DEFAULT_METHOD
+from .figures import ERROR_PERCENTILE, choose_zoom, error_map, error_scale, scene_figure, zoom_where_methods_differ
 from .protocols import PROTOCOLS, left_out_reason
-from .runner import METRICS, ROW_FIELDS, BenchCase, BenchRow, mean_and_count, mean_or_nan
-from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
+from .runner import METRICS, ROW_FIELDS, BenchRow, mean_and_count, mean_or_nan
+from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS
 
 __all__ = [
     "Table",
@@ -45,8 +45,11 @@ __all__ = [
     "summary_markdown",
     "terminal_table",
     "published_table",
+    "ERROR_PERCENTILE",
     "choose_zoom",
+    "zoom_where_methods_differ",
     "error_map",
+    "error_scale",
     "best_cells",
     "scene_figure",
     "rmse_scale_figure",
@@ -61,10 +64,6 @@ _METRIC_TITLES = {
     "bad_3": "bad > 3 (%)",
     "coverage": "coverage (%)",
 }
-
-#: Error maps are drawn from 0 to this many depth units (larger errors saturate).
-ERROR_MAP_MAX = 10.0
-
 
 @dataclass(frozen=True)
 class Table:
@@ -475,93 +474,6 @@ def summary_markdown(
 
 
 # ---------------------------------------------------------------- figures
-
-def choose_zoom(depth_gt: np.ndarray, *, fraction: float = 0.25) -> tuple[int, int, int, int]:
-    """The detail window with the most ground-truth depth edges, ``(row0, row1, col0, col1)``.
-
-    The window is ``fraction`` of the image's height and width; candidates
-    lie on a grid of a quarter window, the first best one wins (deterministic).
-
-    Examples
-    --------
-    >>> gt = np.full((40, 40), 50.0); gt[30:, 30:] = 200.0
-    >>> choose_zoom(gt)
-    (28, 38, 28, 38)
-    """
-    gt = np.asarray(depth_gt, dtype=np.float64)
-    rows, cols = gt.shape
-    wr, wc = max(1, int(rows * fraction)), max(1, int(cols * fraction))
-    edges = depth_edges(gt, threshold=EDGE_THRESHOLD_LEVELS).astype(np.float64)
-    integral = np.pad(edges.cumsum(0).cumsum(1), ((1, 0), (1, 0)))
-    r0s = np.arange(0, rows - wr + 1, max(1, wr // 4))
-    c0s = np.arange(0, cols - wc + 1, max(1, wc // 4))
-    R, C = np.meshgrid(r0s, c0s, indexing="ij")
-    counts = integral[R + wr, C + wc] - integral[R, C + wc] - integral[R + wr, C] + integral[R, C]
-    i, j = np.unravel_index(int(np.argmax(counts)), counts.shape)
-    r0, c0 = int(r0s[i]), int(c0s[j])
-    return r0, r0 + wr, c0, c0 + wc
-
-
-def error_map(depth_pred: np.ndarray, depth_gt: np.ndarray, *, border: int = 0) -> np.ndarray:
-    """``|pred - gt|`` as float32, NaN where a pixel is not scored (no ground truth, border, no prediction).
-
-    Examples
-    --------
-    >>> error_map(np.array([[1.0, 5.0, 2.0]]), np.array([[1.5, np.nan, 2.0]])).tolist()
-    [[0.5, nan, 0.0]]
-    """
-    gt = np.asarray(depth_gt, dtype=np.float64)
-    pred = np.asarray(depth_pred, dtype=np.float64)
-    scored = valid_mask(gt, border=border) & np.isfinite(pred)
-    err = np.full(gt.shape, np.nan, np.float32)
-    err[scored] = np.abs(pred[scored] - gt[scored])
-    return err
-
-
-def scene_figure(case: BenchCase, results: Mapping[str, np.ndarray], *,
-                 rmse: Mapping[str, float] | None = None, zoom: tuple[int, int, int, int] | None = None,
-                 units: str | None = None):
-    """Ground truth, color, and per method its result and error map, each beside the same zoomed detail.
-
-    One row per method: result, detail, ``|error|``, detail. Results share
-    the ground truth's range and one depth colorbar; error maps go from 0 to
-    :data:`ERROR_MAP_MAX` (larger errors saturate) with their own colorbar;
-    pixels that are not scored are gray (:mod:`depthrefine.viz`).
-
-    Parameters
-    ----------
-    case : BenchCase
-    results : mapping
-        ``{method: (H, W) depth}``.
-    rmse : mapping, optional
-        ``{method: RMSE}``, put in the row titles.
-    zoom : (row0, row1, col0, col1), optional
-        Default: :func:`choose_zoom` on the ground truth.
-    units : str, optional
-        Default: the protocol's (:attr:`~depthrefine.bench.protocols.Protocol.units`).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from ..viz import Panel, depth_limits, figure_grid
-
-    zoom = choose_zoom(case.depth_gt) if zoom is None else zoom
-    units = units or (PROTOCOLS[case.protocol].units if case.protocol in PROTOCOLS else "depth units")
-    rows = [[Panel("ground truth", case.depth_gt), Panel("detail", case.depth_gt, detail=True),
-             Panel("color", case.rgb_hr, "color"), Panel("detail", case.rgb_hr, "color", detail=True)]]
-    for method, depth in results.items():
-        score = "" if rmse is None or method not in rmse else f": RMSE {rmse[method]:.2f}"
-        err = error_map(depth, case.depth_gt, border=case.border)
-        rows.append([Panel(f"{method}{score}", depth), Panel(f"{method}, detail", depth, detail=True),
-                     Panel(f"{method}: |error|", err, "error"), Panel(f"{method}: |error|, detail", err, "error",
-                                                                        detail=True)])
-    r0, r1, c0, c1 = zoom
-    return figure_grid(rows, units=units, limits=depth_limits(case.depth_gt), error_max=ERROR_MAP_MAX, zoom=zoom,
-                       panel_width=2.2, dpi=140,
-                       title=f"{case.protocol} · {case.scene} · ×{case.scale}: results and |error| against the "
-                             f"ground truth; details: rows {r0}-{r1}, cols {c0}-{c1}")
-
 
 def rmse_scale_figure(rows: Sequence[BenchRow]):
     """Mean RMSE (test scenes) against scale, one line per method, one panel per protocol."""

@@ -48,6 +48,7 @@ COMMAND_MODULES = [
     "run",
     "export_ply",
     "bench",
+    "data",
     "batch",
 ]
 

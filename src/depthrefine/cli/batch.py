@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..io._files import InputFileError, atomic_write
+from ..io import InputFileError, atomic_write
 from ..io._names import DEFAULT_MAX_DT
 from ._common import add_depth_options, add_output, add_overwrite, add_params_options, build_params, params_dict, \
     parse_count, progress_bar

@@ -11,9 +11,10 @@ from typing import TYPE_CHECKING, Any
 from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames
 from ..rig._names import ALIGN_METHODS
 from . import CliError
-from ._rig_options import add_align_options, chain_settings
+from ._rig_options import add_align_options, chain_settings, warn_implausible_units
 from ._common import (add_deprecated_alias, add_depth_options, add_output_format_options, add_overwrite,
                       add_params_options, build_params, output_depth, params_dict, progress_bar)
+from ._picture_options import add_preview_option, check_window, write_preview
 
 if TYPE_CHECKING:
     from ..io import ChainSettings
@@ -88,6 +89,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "distortion; .png, .jpg or .tif), so that the two overlay pixel for pixel")
     p.add_argument("--save-settings", metavar="FILE",
                    help="also write the chain settings used (rig inline) as JSON, to rerun with --rig FILE")
+    add_preview_option(p)
     add_overwrite(p)
     add_depth_options(p)
     p.set_defaults(func=run_chain)
@@ -107,17 +109,19 @@ def _refine_params(args: argparse.Namespace, chain: ChainSettings) -> tuple[str,
 def run_chain(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_output, read_depth, read_rgb,
-                      write_chain_settings, write_depth, write_ply, write_rgb)
+    from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_distinct_inputs, check_output,
+                      read_depth, read_rgb, write_chain_settings, write_depth, write_ply, write_rgb)
     from ..rig.chain import align_pair, keep_unmeasured, refine_pair
     from ..rig.pointcloud import depth_to_points
 
     inputs = (args.depth, args.color, args.rig, args.settings)
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES, inputs=inputs)
+    check_distinct_inputs(args.depth, args.color)
     extra_outputs = {}
     for flag, path, suffixes in (("--ply", args.ply, (".ply",)), ("--save-aligned", args.save_aligned, DEPTH_SUFFIXES),
                                  ("--save-settings", args.save_settings, (".json",)),
-                                 ("--save-color", args.save_color, COLOR_SUFFIXES)):
+                                 ("--save-color", args.save_color, COLOR_SUFFIXES),
+                                 ("--preview", args.preview, (".png",))):
         if path:
             extra_outputs[flag] = check_output(path, overwrite=args.overwrite, suffixes=suffixes, inputs=inputs,
                                                what=f"{flag} file")
@@ -134,11 +138,13 @@ def run_chain(args: argparse.Namespace) -> int:
     method, params = _refine_params(args, chain)
 
     depth_raw = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
+    warn_implausible_units("run", depth_raw, depth_units=align.depth_units, inverse_scale=align.inverse_scale)
     check_depth_format(out, args.output_dtype or depth_raw.dtype)
     if "--save-aligned" in extra_outputs:
         check_depth_format(extra_outputs["--save-aligned"], depth_raw.dtype)
     rgb_raw = read_rgb(args.color)
     pair = align_pair(depth_raw, rgb_raw, chain.rig, settings=align)
+    check_window(args, pair.rgb_hr.shape[:2])
     update, close = progress_bar(f"refine ({method})")
     try:
         depth_hr, scale_note = refine_pair(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
@@ -166,6 +172,9 @@ def run_chain(args: argparse.Namespace) -> int:
             written.append(write_ply(extra_outputs["--ply"], *cloud, overwrite=args.overwrite,
                                      comments=(f"depthrefine run {Path(args.depth).name} {Path(args.color).name}",
                                                "metres, color camera frame: X right, Y down, Z forward")))
+        if "--preview" in extra_outputs:
+            written.append(write_preview(args, extra_outputs["--preview"], depth_hr, pair.rgb_hr, title=out.name,
+                                         units={0.001: "mm", 0.01: "cm", 1.0: "m"}.get(align.depth_units, "as stored")))
         if "--save-settings" in extra_outputs:
             used = ChainSettings(rig=chain.rig, align=align, method=method, params=params_dict(params),
                                  rig_source=chain.rig_source, fill_holes=fill_holes)
@@ -182,4 +191,6 @@ def run_chain(args: argparse.Namespace) -> int:
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
     if cloud is not None:
         print(f"wrote {extra_outputs['--ply']} ({cloud[0].shape[0]} points)", file=sys.stderr)
+    if "--preview" in extra_outputs:
+        print(f"wrote {extra_outputs['--preview']}", file=sys.stderr)
     return 0

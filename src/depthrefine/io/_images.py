@@ -39,7 +39,7 @@ import numpy as np
 
 from .._lazy import cv2, tifffile
 from .._validate import check_pixels, check_rgb, no_valid_pixel_message
-from ._files import InputFileError, atomic_write, check_output
+from ._files import InputFileError, atomic_write, check_output, existing_input
 
 __all__ = [
     "read_depth",
@@ -56,19 +56,6 @@ __all__ = [
 
 DEPTH_SUFFIXES = (".png", ".tif", ".tiff", ".npy", ".pgm")
 _INTEGER_SUFFIXES = (".png", ".pgm")
-
-
-def _existing(path: str | os.PathLike, what: str) -> Path:
-    p = Path(path)
-    if not p.exists():
-        raise InputFileError(f"{what} file {p} does not exist; check the path.")
-    if p.is_dir():
-        raise InputFileError(f"{what} file {p} is a folder; give an image file.")
-    if not os.access(p, os.R_OK):
-        raise InputFileError(f"{what} file {p} is not readable; check its permissions.")
-    if p.stat().st_size == 0:
-        raise InputFileError(f"{what} file {p} is empty (0 bytes); save it again.")
-    return p
 
 
 def image_shape(path: str | os.PathLike) -> tuple[int, ...] | None:
@@ -184,7 +171,26 @@ def _captured_stderr_fd() -> Iterator[list[str]]:
             out.append(tmp.read().decode("utf-8", "replace").strip())
 
 
+#: File signatures of recordings that `depthrefine batch` reads, not single images.
+_RECORDINGS = ((b"\x1a\x45\xdf\xa3", "a Matroska recording (.mkv, e.g. Azure Kinect)"),
+               (b"#ROSBAG", "a ROS 1 bag"), (b"\x89MCAP", "an MCAP bag"), (b"SQLite format 3\x00", "a ROS 2 bag (.db3)"))
+
+
+def _recording(p: Path) -> str | None:
+    """What recording ``p`` is (from its first bytes), else None."""
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(16)
+    except OSError:
+        return None
+    return next((kind for magic, kind in _RECORDINGS if head.startswith(magic)), None)
+
+
 def _read_any(p: Path, what: str) -> np.ndarray:
+    kind = _recording(p)
+    if kind is not None:
+        raise InputFileError(f"{what} file {p} is {kind}, not an image; refine its frames with "
+                             f"`depthrefine batch {p} -o OUTDIR`.")
     suffix = p.suffix.lower()
     try:
         if suffix == ".npy":
@@ -234,7 +240,7 @@ def read_depth(
         Missing, unreadable, too large or non-depth file (e.g. a color
         image), or a depth map without any valid pixel.
     """
-    p = _existing(path, "depth")
+    p = existing_input(path, "depth")
     _check_size(p, "depth", max_pixels)
     arr = _read_any(p, "depth")
     if arr.ndim == 3 and arr.shape[2] in (3, 4) and p.suffix.lower() not in (".npy", ".tif", ".tiff"):
@@ -391,7 +397,7 @@ def read_rgb(path: str | os.PathLike, *, max_pixels: int | None = None) -> np.nd
     over ``max_pixels`` or the machine's memory is refused before decoding
     (see :func:`depthrefine._validate.check_pixels`).
     """
-    p = _existing(path, "color")
+    p = existing_input(path, "color")
     _check_size(p, "color", max_pixels)
     arr = _read_any(p, "color")
     if arr.ndim >= 2:

@@ -46,7 +46,7 @@ import functools
 
 import numpy as np
 
-from .._numba import njit, run_split
+from .._numba import njit, note_first_compile, run_split
 from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "smooth"]
@@ -58,6 +58,9 @@ _PARALLEL_PIXELS = 1 << 16
 #: The largest coupling ``lam * w`` of two neighbours: larger ones (and an infinite ``lam``) count as this.
 #: At it the two are already tied to float32 precision (their gap shrinks as ``1 / sqrt(lam * w)``).
 MAX_COUPLING = 1e30
+#: Seconds a first solve spends compiling the kernels with an empty numba cache (2-core machine,
+#: ``python benchmarks/first_call.py``); said in the first-compile note.
+FIRST_COMPILE_SECONDS = 3
 
 
 @njit(error_model="numpy")
@@ -311,3 +314,7 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
         run_split(_solve_columns, _blocks(u.shape[1]), u, wy, lam32, parallel=parallel)
         lam32 = np.float32(lam32 * np.float32(attenuation))
     return u
+
+
+# With a cold numba cache the first solve compiles the kernels above: say so, once, before it starts.
+note_first_compile(__name__, what="gbp's solver", seconds=FIRST_COMPILE_SECONDS)

@@ -50,7 +50,7 @@ from typing import Callable
 import numpy as np
 
 from .._lazy import cv2
-from .._validate import as_rgb_float, check_number, check_rgb
+from .._validate import as_rgb_float, check_number, check_rgb, guide_uint8
 from .baselines import upsample
 
 __all__ = [
@@ -178,12 +178,6 @@ def _prepare(depth_lr: np.ndarray, rgb_hr: np.ndarray, params, params_type):
     return params, rgb, start, s
 
 
-def _guide8(rgb: np.ndarray) -> np.ndarray:
-    if rgb.dtype == np.uint8:
-        return np.ascontiguousarray(rgb)
-    return np.clip(as_rgb_float(rgb) * 255.0 + 0.5, 0, 255).astype(np.uint8)
-
-
 def _done(progress: Progress | None) -> None:
     if progress is not None:
         progress(1, 1)
@@ -255,7 +249,7 @@ def upsample_fgs(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: FastGlobal
     """
     params, rgb, start, s = _prepare(depth_lr, rgb_hr, params, FastGlobalSmootherParams)
     out = cv2.ximgproc.fastGlobalSmootherFilter(
-        _guide8(rgb), start, params.lambda_lr * s * s, params.sigma_color,
+        guide_uint8(rgb), start, params.lambda_lr * s * s, params.sigma_color,
         lambda_attenuation=params.lambda_attenuation, num_iter=params.num_iter,
     )
     _done(progress)
@@ -286,7 +280,7 @@ def upsample_wmf(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: WeightedMe
     params, rgb, start, s = _prepare(depth_lr, rgb_hr, params, WeightedMedianParams)
     radius = max(1, int(round(params.radius_lr * s)))
     cv2.setRNGSeed(0)  # the filter clusters the guide colors with OpenCV's RNG (see the docstring)
-    out = cv2.ximgproc.weightedMedianFilter(_guide8(rgb), start, radius, params.sigma)
+    out = cv2.ximgproc.weightedMedianFilter(guide_uint8(rgb), start, radius, params.sigma)
     _done(progress)
     return out.astype(np.float32, copy=False)
 
@@ -335,7 +329,7 @@ def upsample_fbs(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: FastBilate
     params, rgb, start, s = _prepare(depth_lr, rgb_hr, params, FastBilateralSolverParams)
     confidence = np.ones(start.shape, np.float32)
     out = cv2.ximgproc.fastBilateralSolverFilter(
-        _guide8(rgb), start.astype(np.float32), confidence, params.sigma_spatial_lr * s, params.sigma_luma,
+        guide_uint8(rgb), start.astype(np.float32), confidence, params.sigma_spatial_lr * s, params.sigma_luma,
         params.sigma_chroma, params.lam, int(params.num_iter))
     _done(progress)
     return out.astype(np.float32, copy=False)

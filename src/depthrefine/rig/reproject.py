@@ -28,9 +28,9 @@ import numpy as np
 
 from .._fill import fill_invalid_nearest
 from .._validate import as_depth
+from ._geometry import depth_conversion, metres64, zbuffer
 from .camera import CameraModel, StereoRig, check_camera_shape
-from .pointcloud import _conversion, _metres64, metres_to_depth, pixel_rays, project_points
-from .shift import _zbuffer
+from .pointcloud import metres_to_depth, pixel_rays, project_points
 
 __all__ = ["reproject_camera", "default_factor", "align_reproject"]
 
@@ -158,13 +158,13 @@ def align_reproject(
     """
     if not isinstance(rig, StereoRig):
         raise TypeError(f"rig must be a StereoRig; got {type(rig).__name__}.")
-    _conversion(depth_units, inverse_scale)
+    depth_conversion(depth_units, inverse_scale)
     d = as_depth(depth, "depth")
     check_camera_shape(d.shape, rig.depth_camera, "depth")
     _, grid = reproject_camera(rig, factor=factor, distorted=color_distorted)
     rows_t, cols_t = grid.shape
 
-    z = _metres64(d, depth_units, inverse_scale)
+    z = metres64(d, depth_units, inverse_scale)
     valid = np.isfinite(z).ravel()
     z = fill_invalid_nearest(z)  # invalid pixels travel with their nearest valid neighbour
     rays = pixel_rays(rig.depth_camera, distorted=depth_distorted).reshape(-1, 2)
@@ -194,7 +194,7 @@ def align_reproject(
     source = np.concatenate(sources)
     target = np.concatenate(targets)
     priority = np.where(valid[source], -z_color[source], -np.inf)  # nearest wins; invalid loses
-    target, source = _zbuffer(target, priority, source)
+    target, source = zbuffer(target, priority, source)
 
     out = np.full(rows_t * cols_t, np.nan)
     landed = np.zeros(rows_t * cols_t, dtype=bool)

@@ -16,7 +16,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..._numba import njit as _jit
+from ..._numba import njit as _jit, note_first_compile
+
+#: Seconds the thesis method's first run spends compiling its kernels with an empty numba cache
+#: (2-core machine, ``python benchmarks/first_call.py``); said in the first-compile note.
+FIRST_COMPILE_SECONDS = 13
 
 
 # ----------------------------------------------------------------------------
@@ -357,3 +361,8 @@ def median_rows(image, out, table, n_slots, out0, out1, size, y0, y1, chunk):
             oflat[y, c0:c0 + m] = buf[out0][:m]
             if y + 1 < rows:
                 oflat[y + 1, c0:c0 + m] = buf[out1][:m]
+
+
+# With a cold numba cache the thesis method's first run compiles these kernels (and the median
+# kernels): say so, once, before it starts.
+note_first_compile(__name__, what="the thesis method's kernels", seconds=FIRST_COMPILE_SECONDS)

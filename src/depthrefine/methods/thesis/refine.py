@@ -28,8 +28,8 @@ import numpy as np
 from ..._lazy import ndimage
 from ..._validate import as_depth, check_pixels, check_rgb, valid_range
 from ..._fill import fill_invalid_nearest
-from .params import RefineParams
-from ..scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
+from .params import ThesisParams
+from ..scale import ScaleStep, ScaleWarning, plan_scale, resize_color, resize_depth_nearest
 from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
@@ -51,10 +51,6 @@ Progress = Callable[[int, int], None]
 #: image (pixels) worth starting them for.
 _MAX_THREADS = 8
 _PARALLEL_MIN_PIXELS = 200_000
-
-
-class ScaleWarning(UserWarning):
-    """The color/depth ratio is not an integer: the thesis's scale step was applied."""
 
 
 @dataclass(frozen=True)
@@ -121,7 +117,7 @@ def refine_thesis(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     progress: Progress | None = None,
 ) -> np.ndarray:
     """Refine ``depth_lr`` to the resolution of ``rgb_hr`` with the thesis method.
@@ -134,7 +130,7 @@ def refine_thesis(
     rgb_hr : (H, W, 3) uint8, uint16 or float ndarray in [0, 1]
         Registered color image (RGB order). Gray (H, W) is repeated to three
         channels; an alpha channel is dropped.
-    params : RefineParams, optional
+    params : ThesisParams, optional
         Thesis defaults when omitted.
     progress : callable, optional
         ``progress(done, total)`` after each patch.
@@ -158,7 +154,7 @@ def refine_thesis(
     --------
     >>> depth = np.array([[10, 10, 50, 50]] * 4, np.uint8)
     >>> rgb = np.zeros((8, 8, 3), np.uint8); rgb[:, 4:] = 200
-    >>> out = refine_thesis(depth, rgb, params=RefineParams(patches=(1, 1), n_clusters=2))
+    >>> out = refine_thesis(depth, rgb, params=ThesisParams(patches=(1, 1), n_clusters=2))
     >>> out.shape, out.dtype, out[0].tolist()
     ((8, 8), dtype('float32'), [10.0, 10.0, 10.0, 10.0, 50.0, 50.0, 50.0, 50.0])
     """
@@ -169,7 +165,7 @@ def refine_thesis_stateful(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     state: Any = None,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, Any]:
@@ -205,7 +201,7 @@ def refine_with_intermediates(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     progress: Progress | None = None,
 ) -> Refinement:
     """Like :func:`refine_thesis`, but return every intermediate result too.
@@ -219,7 +215,7 @@ def refine_with_intermediates(
     --------
     >>> depth = np.full((4, 4), 30, np.uint8)
     >>> rgb = np.zeros((8, 8, 3), np.uint8)
-    >>> r = refine_with_intermediates(depth, rgb, params=RefineParams(patches=(2, 2)))
+    >>> r = refine_with_intermediates(depth, rgb, params=ThesisParams(patches=(2, 2)))
     >>> r.labels.shape, len(r.patches), r.scale.factor
     ((8, 8), 4, 2)
     """
@@ -358,7 +354,7 @@ class _Levels:
     n_bins: int
 
 
-def _levels(depth: np.ndarray, is_8bit: bool, params: RefineParams) -> _Levels:
+def _levels(depth: np.ndarray, is_8bit: bool, params: ThesisParams) -> _Levels:
     lo, hi = valid_range(depth)
     if params.level_size is not None:
         level_size = float(params.level_size)
@@ -381,7 +377,7 @@ class _Context:
     nearest: np.ndarray        # (h, w): nearest valid depth anywhere (for patches without any)
     s: int                     # the integer scale factor
     levels: _Levels
-    params: RefineParams
+    params: ThesisParams
     keep: bool                 # also return the intermediates
     init_means: list | None = None  # per patch: the previous frame's cluster means (warm start)
     want_means: bool = False   # return each patch's cluster means (for the next frame)
@@ -403,7 +399,7 @@ class _WarmState:
     """What :func:`refine_thesis_stateful` carries from frame to frame."""
 
     patches: list
-    params: RefineParams
+    params: ThesisParams
     means: list
 
 
@@ -464,9 +460,9 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     With ``warm`` (``None`` or a previous state) also return the new state: each patch's
     k-means starts from the previous frame's means when that frame had the same patches.
     """
-    params = RefineParams() if params is None else params
-    if not isinstance(params, RefineParams):
-        raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
+    params = ThesisParams() if params is None else params
+    if not isinstance(params, ThesisParams):
+        raise TypeError(f"params must be a ThesisParams; got {type(params).__name__}.")
     depth = as_depth(depth_lr)
     rgb = check_rgb(rgb_hr)
     check_pixels(rgb.shape, name="rgb_hr")
@@ -496,7 +492,7 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     return (result, _WarmState(lr_patches, params, means)) if stateful else result
 
 
-def _color_features(rgb: np.ndarray, step: ScaleStep, params: RefineParams) -> tuple[np.ndarray, np.ndarray]:
+def _color_features(rgb: np.ndarray, step: ScaleStep, params: ThesisParams) -> tuple[np.ndarray, np.ndarray]:
     """4.3.1-4.3.2 on the whole work grid: the median-filtered color and its L*a*b*.
 
     The median runs on the whole image at once (at a patch border the window
@@ -511,7 +507,7 @@ def _color_features(rgb: np.ndarray, step: ScaleStep, params: RefineParams) -> t
     return filtered, lab
 
 
-def _lr_patches(params: RefineParams, depth_shape: tuple[int, int],
+def _lr_patches(params: ThesisParams, depth_shape: tuple[int, int],
                 step: ScaleStep) -> tuple[list[tuple[int, int, int, int]], np.ndarray | None]:
     """The patches on the depth grid, and for a manual layout the map of which patch owns each pixel."""
     if params.patch_layout is not None:

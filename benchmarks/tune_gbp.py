@@ -1,0 +1,89 @@
+"""The tuning-scene mean RMSE of ``gbp``: the figure every default of ``docs/tuning.md`` was chosen by.
+
+Scores ``gbp`` on the tuning scenes of ``park``, ``middlebury30`` and ``tof``
+(the scenes every summary leaves out: ``bench.protocols.TUNING_SCENES``) at x4,
+x8 and x16 and prints the mean RMSE per protocol and scale, per scale over all
+those cases, and the tuning mean (the mean of the three per-scale means). A knob is
+set with ``--set iterations=6``; a constant of a step with
+``--set solve.LAMBDA_FIRST=8`` (``measure``, ``solve`` or ``trust``: the
+modules of ``depthrefine.methods.gbp``), so every default can be compared with
+its neighbours::
+
+    python benchmarks/tune_gbp.py                                   # the defaults
+    python benchmarks/tune_gbp.py --set lambda_lr=0.045 --set trust.TRUST_FLOOR=0.2
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+PROTOCOLS = ("park", "middlebury30", "tof")
+SCALES = (4, 8, 16)
+
+
+def _setting(text: str) -> tuple[str, float | int | bool]:
+    name, _, value = text.partition("=")
+    if not value:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE; got {text!r}")
+    parsed: float | int | bool
+    if value.lower() in ("true", "false"):
+        parsed = value.lower() == "true"
+    else:
+        parsed = float(value) if any(c in value for c in ".eE") else int(value)
+    return name.strip(), parsed
+
+
+def tuning_mean(data: Path, settings: list[tuple[str, object]]) -> tuple[float, dict[tuple[str, int], float]]:
+    """The tuning mean and the mean RMSE per (protocol, scale) and per scale (key ``("all", scale)``)."""
+    from depthrefine.bench.metrics import score
+    from depthrefine.bench.protocols import TUNING_SCENES, load_cases
+    from depthrefine.methods.gbp import GbpParams, upsample_gbp
+
+    fields = {}
+    for name, value in settings:
+        if "." in name:
+            module, constant = name.split(".", 1)
+            target = importlib.import_module(f"depthrefine.methods.gbp.{module}")
+            if not hasattr(target, constant):
+                raise SystemExit(f"depthrefine.methods.gbp.{module} has no constant {constant}")
+            setattr(target, constant, type(getattr(target, constant))(value))
+        else:
+            fields[name] = value
+    params = GbpParams(**fields)
+    scores: dict[tuple[str, int], list[float]] = {}
+    for protocol in PROTOCOLS:
+        for case in load_cases(data, protocol, SCALES):
+            if case.scene in TUNING_SCENES[protocol]:
+                out = upsample_gbp(case.depth_lr, case.rgb_hr, params=params)
+                rmse = score(out, case.depth_gt, border=case.border).rmse
+                scores.setdefault((protocol, case.scale), []).append(rmse)
+                scores.setdefault(("all", case.scale), []).append(rmse)
+    means = {key: float(np.mean(values)) for key, values in scores.items()}
+    return float(np.mean([means["all", s] for s in SCALES])), means
+
+
+def main(argv: list[str] | None = None) -> int:
+    default = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    parser.add_argument("--data", type=Path, default=default, help="benchmark data folder")
+    parser.add_argument("--set", dest="settings", type=_setting, action="append", default=[], metavar="NAME=VALUE",
+                        help="a GbpParams field, or MODULE.CONSTANT of depthrefine.methods.gbp (repeatable)")
+    args = parser.parse_args(argv)
+    t0 = time.perf_counter()
+    mean, means = tuning_mean(args.data, args.settings)
+    for protocol in (*PROTOCOLS, "all"):
+        print(f"{protocol:13s} " + " / ".join(f"x{s} {means[protocol, s]:.4f}" for s in SCALES))
+    print(f"tuning mean {mean:.4f}  ({', '.join(f'{n}={v}' for n, v in args.settings) or 'defaults'}; "
+          f"{time.perf_counter() - t0:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

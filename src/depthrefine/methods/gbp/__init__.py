@@ -1,0 +1,46 @@
+"""Guided back-projection (``gbp``): the default method.
+
+It upsamples a low-resolution depth map ``y`` (``h x w``) to the grid of a
+registered color image (``H x W``, any factor) in five steps (a sixth on request), one module each:
+
+1. ``measure``  measure the input once: its noise (in 8-bit levels of its own
+   depth range, so one set of defaults serves levels and millimetres),
+   whether its pixels are footprint means or point samples, where it shows a
+   depth jump, and the guide's own noise (:class:`InputMeasures`);
+2. ``solve``    start from the bicubic enlargement, clipped at the input's jumps;
+3. ``solve``    back-project: rounds of "add the enlarged residual ``y - D(x)``,
+   smooth with a weighted least-squares solve whose weights fall with the
+   color difference and the estimate's own gradient", each held within the
+   input's local range;
+4. ``solve``    where the input shows no depth edge above its noise, blend in a
+   stronger color-guided smoother (noise averaged over color segments);
+5. ``trust``    check the guide against the input one octave down and fall back
+   to clipped bicubic interpolation where its detail is not confirmed, so a
+   guide whose texture is not depth does no harm;
+6. ``edges``    (``snap_edges``, off by default) move each large depth jump, within
+   two depth pixels, onto the strongest color edge between its surfaces: for
+   real sensors whose edges sit off the color edges.
+
+``upsample`` runs the steps in this order (:func:`upsample_gbp`) and holds the
+warm start for video (:func:`upsample_gbp_stateful`); ``params`` holds the
+knobs (:class:`GbpParams`). Invalid input pixels are filled from the nearest
+valid pixel before any interpolation and never pull the result; the output
+stays within the input's valid range and is deterministic. How each default
+was chosen: ``docs/tuning.md``.
+
+References
+----------
+M. Irani, S. Peleg, "Improving resolution by image registration", CVGIP 1991
+(back-projection). D. Min, S. Choi, J. Lu, B. Ham, K. Sohn, M. N. Do, "Fast
+global image smoothing based on weighted least squares", TIP 2014.
+D. L. Donoho, I. M. Johnstone, "Ideal spatial adaptation by wavelet
+shrinkage", Biometrika 1994 (noise from the finest wavelet band).
+"""
+
+from .measure import InputMeasures, block_mean_valid, estimate_guide_noise, estimate_noise, footprint_share
+from .params import GbpParams
+from .trust import guide_trust
+from .upsample import upsample_gbp, upsample_gbp_stateful
+
+__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "estimate_noise", "estimate_guide_noise",
+           "footprint_share", "guide_trust", "block_mean_valid", "InputMeasures"]

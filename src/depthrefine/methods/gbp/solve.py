@@ -1,0 +1,247 @@
+"""Steps 2-4 of gbp: the start, the back-projection rounds and the flat-area blend.
+
+- :func:`clamped_bicubic`: bicubic enlargement, held near the input's depth
+  jumps within each pixel's 3x3 input range so that it does not ring (the
+  start, and the fallback of step 5).
+- :func:`back_project`: ``iterations`` rounds of "add the enlarged residual
+  ``y - D(x)``, then smooth with an edge-aware weighted least-squares solve"
+  (Irani & Peleg 1991; the fast global smoother of Min et al. 2014, with
+  weights that fall with the color difference and with the estimate's own
+  gradient), each round held within the local range of the input.
+- :func:`flat_blend`: where the input shows no depth edge above its noise, a
+  stronger color-guided smoother of the bilinear enlargement takes over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from .measure import InputMeasures, noise_share
+
+if TYPE_CHECKING:
+    from .params import GbpParams
+
+__all__ = ["Solver", "make_solver", "clamped_bicubic", "local_bounds", "clip_to_bounds", "back_project",
+           "flat_blend", "reduce", "resize"]
+
+# ---- the detail solve
+#: The smoothing falls geometrically over the rounds, from this many times its nominal value ...
+LAMBDA_FIRST = 6.0
+#: ... to this many times it (early rounds place the edges, late ones keep the detail).
+LAMBDA_LAST = 0.35
+#: Noise (levels of the depth range) at which the smoothing doubles: it grows with ``(sigma / NOISE_REF)**2``.
+NOISE_REF = 1.0
+#: On a point-sampled input the smoothing is this many times stronger (it fills the gaps between the samples).
+POINT_LAMBDA = 10.0
+#: The color sensitivity of the solves is at least this many times the guide's own noise.
+GUIDE_NOISE = 3.0
+#: The guide's 3x3 bilateral filter (``GbpParams.guide_smoothing``): diameter and spatial sigma, color pixels.
+GUIDE_SMOOTHING_SIZE, GUIDE_SMOOTHING_SPACE = 3, 3.0
+
+# ---- the flat-area solve
+#: Color sensitivity of the flat-area solve, 8-bit levels.
+FLAT_SIGMA_COLOR = 4.0
+#: A 3x3 input range below ``EDGE_LOW`` noise sigmas counts as flat ...
+EDGE_LOW = 6.0
+#: ... and the blend to the detail solve ramps over ``EDGE_WIDTH`` sigmas above it.
+EDGE_WIDTH = 4.0
+
+Progress = Callable[[int, int], None]
+
+
+@dataclass(frozen=True, eq=False)
+class Solver:
+    """The guide as the solves see it: color weights of the detail and flat-area solves on one grid.
+
+    ``scale`` is the mean enlargement factor from the input's grid to the
+    guide's; ``guide`` the guide after its bilateral filter; ``color_x``,
+    ``color_y`` (``flat_x``, ``flat_y``) the edge weights of the detail
+    (flat-area) solve.
+    """
+
+    shape: tuple[int, int]
+    scale: float
+    guide: np.ndarray
+    color_x: np.ndarray
+    color_y: np.ndarray
+    flat_x: np.ndarray
+    flat_y: np.ndarray
+
+
+def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor: float) -> Solver:
+    """The guide's color weights for the solves of an input measured as ``m``.
+
+    The guide goes through a 3x3 bilateral filter (``p.guide_smoothing``)
+    first; each solve's color sensitivity is at least ``floor_factor``
+    times the guide's noise (``m.guide_noise``), so pixel noise is not taken
+    for edges.
+    """
+    import cv2
+
+    from .. import _wls
+
+    (h, w), (H, W) = m.depth.shape, guide.shape[:2]
+    if p.guide_smoothing > 0:
+        # flattens texture and noise within a color region, keeps the edges between regions
+        guide = cv2.bilateralFilter(guide, GUIDE_SMOOTHING_SIZE, p.guide_smoothing, GUIDE_SMOOTHING_SPACE,
+                                    borderType=cv2.BORDER_REPLICATE)
+    floor = floor_factor * m.guide_noise
+    color_x, color_y = _wls.color_weights(guide, max(p.sigma_color, floor))
+    flat_x, flat_y = color_x, color_y
+    if FLAT_SIGMA_COLOR != p.sigma_color:
+        flat_x, flat_y = _wls.color_weights(guide, max(FLAT_SIGMA_COLOR, floor))
+    return Solver((H, W), 0.5 * (H / h + W / w), guide, color_x, color_y, flat_x, flat_y)
+
+
+def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.ndarray:
+    """``cv2.resize`` to ``shape`` (rows, columns)."""
+    import cv2
+
+    return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
+
+
+def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray) -> np.ndarray:
+    """Bicubic enlargement, clipped near depth jumps to the range of each pixel's 3x3 input neighbourhood.
+
+    Plain bicubic rings at a depth jump (values beyond both sides); clipped
+    there, it keeps bicubic's sharpness, and on smooth surfaces (``jump`` 0)
+    it stays plain bicubic, whose peaks may rightly pass the samples.
+    ``depth`` is hole-filled; ``jump`` is its jump map (:func:`.measure.near_jump`).
+    """
+    import cv2
+
+    kernel = np.ones((3, 3), np.uint8)
+    up = resize(depth, shape, cv2.INTER_CUBIC)
+    low = resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST)
+    high = resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST)
+    clipped = np.clip(up, low, high)
+    # up <- up + jump * (clipped - up), in place
+    clipped -= up
+    clipped *= resize(jump, shape, cv2.INTER_LINEAR)
+    up += clipped
+    return up
+
+
+def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """The range of the valid input pixels of each input pixel's 3x3 neighbourhood, on a grid of ``shape``.
+
+    ``depth`` is the input with NaN for invalid pixels, continued linearly
+    beyond its border (odd reflection: a slope keeps its last pixels'
+    values). Returns (low, high) float32; they are +-inf (no bound) over
+    missing input pixels and over the input pixels within ``hole_margin``
+    pixels of one.
+    """
+    import cv2
+
+    padded = np.pad(depth, 1, mode="reflect", reflect_type="odd")   # NaN stays NaN
+    valid = np.isfinite(padded)
+    kernel = np.ones((3, 3), np.uint8)
+    low = cv2.erode(np.where(valid, padded, np.inf).astype(np.float32), kernel)[1:-1, 1:-1]
+    high = cv2.dilate(np.where(valid, padded, -np.inf).astype(np.float32), kernel)[1:-1, 1:-1]
+    missing = ~valid[1:-1, 1:-1]
+    if hole_margin > 0:
+        missing = cv2.dilate(missing.astype(np.uint8), np.ones((2 * hole_margin + 1,) * 2, np.uint8)) > 0
+    low[missing], high[missing] = -np.inf, np.inf
+    return resize(low, shape, cv2.INTER_NEAREST), resize(high, shape, cv2.INTER_NEAREST)
+
+
+def clip_to_bounds(x: np.ndarray, bounds: tuple[np.ndarray, np.ndarray]) -> None:
+    """Clip ``x`` in place to :func:`local_bounds` (``cv2.max`` / ``cv2.min``: 3x ``np.clip``'s speed)."""
+    import cv2
+
+    cv2.max(x, bounds[0], dst=x)
+    cv2.min(x, bounds[1], dst=x)
+
+
+def reduce(x: np.ndarray, shape: tuple[int, int], footprint: float) -> np.ndarray:
+    """The data model ``D``: footprint means (``footprint = 1``), point samples (0, at the pixels' centres), a blend."""
+    import cv2
+
+    if footprint >= 1.0:
+        return resize(x, shape, cv2.INTER_AREA)
+    point = resize(x, shape, cv2.INTER_NEAREST_EXACT)
+    if footprint <= 0.0:
+        return point
+    return point + footprint * (resize(x, shape, cv2.INTER_AREA) - point)
+
+
+def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: tuple[np.ndarray, np.ndarray],
+                 progress: Progress | None = None) -> np.ndarray:
+    """Steps 2-3: the clipped bicubic start, then ``p.iterations`` back-projection rounds.
+
+    Each round adds the Lanczos enlargement of the residual ``y - D(x)``
+    (zero at invalid input pixels, so they never pull the result), clips the
+    estimate to the input's local range (every round but the last, whose
+    residual stays whole so the result's reduction matches the input; not
+    within one input pixel of a hole, whose free pixels would carry the
+    clipped rim's pull into it), smooths it with weights that fall with the
+    color difference and with the estimate's own gradient (a jump the input
+    shows is kept where the guide does not show it), and clips it to the
+    input's local range again. The smoothing grows with the input's noise
+    and falls geometrically over the rounds. ``bounds`` is
+    :func:`local_bounds` of ``m.depth`` on the solver's grid. Returns (H, W)
+    float32.
+    """
+    import cv2
+
+    from .. import _wls
+
+    (h, w), shape, s = m.depth.shape, solver.shape, solver.scale
+    lam = p.lambda_lr * s * s * (1.0 + (m.sigma_levels / NOISE_REF) ** 2) * (
+        1.0 + (POINT_LAMBDA - 1.0) * (1.0 - m.footprint))
+    # a jump the back-projection places spreads over about s color pixels
+    gradient_sigma = p.gradient_levels * m.span / 255.0 / s
+    residual_bounds = bounds
+    if not m.valid.all():
+        residual_bounds = local_bounds(m.depth, shape, hole_margin=1)
+    x = clamped_bicubic(m.filled, shape, m.jump)
+    for k in range(p.iterations):
+        ratio = LAMBDA_FIRST * (LAMBDA_LAST / LAMBDA_FIRST) ** (k / max(1, p.iterations - 1))
+        residual = m.filled - reduce(x, (h, w), m.footprint)
+        residual[~m.valid] = 0.0
+        x += resize(residual, shape, cv2.INTER_LANCZOS4)
+        if k < p.iterations - 1:
+            clip_to_bounds(x, residual_bounds)
+        if p.gradient_levels > 0:
+            weight_x, weight_y = _wls.depth_weights(x, gradient_sigma, solver.color_x, solver.color_y)
+        else:
+            weight_x, weight_y = solver.color_x, solver.color_y
+        x = _wls.smooth(x, weight_x, weight_y, lam * ratio)
+        np.clip(x, m.low, m.high, out=x)
+        clip_to_bounds(x, bounds)
+        if progress is not None:
+            progress(k + 1, p.iterations + 1)
+    return x
+
+
+def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) -> np.ndarray:
+    """Step 4: where the input shows no depth edge above its noise, a stronger color-guided smoother takes over.
+
+    A 3x3 input range below ``EDGE_LOW`` noise sigmas counts as flat; the
+    blend ramps over ``EDGE_WIDTH`` sigmas above it. The flat-area solve
+    (``p.flat_lambda_lr`` per depth pixel, of the bilinear enlargement)
+    averages noise over whole color segments; on a noise-free input there
+    is nothing to average and its share fades out (below
+    :data:`~.measure.FLAT_NOISE` levels). ``x`` is updated in place and
+    returned, within the input's range.
+    """
+    import cv2
+
+    from .. import _wls
+
+    flat = _wls.smooth(resize(m.filled, solver.shape, cv2.INTER_LINEAR), solver.flat_x, solver.flat_y,
+                       p.flat_lambda_lr * solver.scale)
+    kernel = np.ones((3, 3), np.uint8)
+    local_range = cv2.dilate(m.filled, kernel) - cv2.erode(m.filled, kernel)
+    edge = np.clip((local_range - EDGE_LOW * m.sigma) / (EDGE_WIDTH * m.sigma + 1e-6 * m.span), 0.0, 1.0)
+    edge = cv2.dilate(edge.astype(np.float32), kernel)
+    edge = 1.0 - (1.0 - edge) * noise_share(m.sigma_levels)
+    edge = resize(edge, solver.shape, cv2.INTER_LINEAR)
+    # x <- edge * x + (1 - edge) * flat, in place
+    x -= flat
+    x *= edge
+    x += flat
+    return np.clip(x, m.low, m.high, out=x)
