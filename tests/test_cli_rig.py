@@ -445,3 +445,17 @@ def test_run_preview_and_same_file_refused(captures, tmp_path, capsys):
         assert main(command) == 2
         err = capsys.readouterr().err
         assert "DEPTH and COLOR are the same file" in err and len(err.strip().splitlines()) == 1
+
+
+def test_run_save_color_and_factor_options(captures, tmp_path, capsys):
+    common = ["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["settings"]),
+              "--refine-method", "bilinear"]
+    out, color = tmp_path / "refined.png", tmp_path / "color.png"
+    assert main([*common, "-o", str(out), "--save-color", str(color), "--factor", "7.5"]) == 0, capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "s = 7.5" in err and "90x67 grid" in err
+    assert read_depth(out).shape == (504, 672) and cv2.imread(str(color)).shape == (504, 672, 3)
+    for bad, message in ((["--save-color", str(tmp_path / "c.bmp")], "unknown format '.bmp'"),
+                         (["--factor", "0.5"], "expected a number >= 1")):
+        assert main([*common, "-o", str(tmp_path / "x.png"), *bad]) == 2
+        assert message in capsys.readouterr().err and not (tmp_path / "x.png").exists()

@@ -118,10 +118,22 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
         pair = align_pair(depth, rgb, plan.rig, settings=plan.align or AlignSettings())
         depth, rgb, camera, notes = pair.depth_lr, pair.rgb_hr, pair.camera, pair.notes
     check_call(plan.method, depth, rgb, plan.params)
-    if stateful:
-        depth_hr, state = plan.method.refine_stateful(depth, rgb, params=plan.params, state=state)
+    states = [state]
+
+    def solve(depth_in: np.ndarray, rgb_in: np.ndarray) -> np.ndarray:
+        if stateful:
+            out, states[0] = plan.method.refine_stateful(depth_in, rgb_in, params=plan.params, state=states[0])
+            return out
+        states[0] = None
+        return plan.method.func(depth_in, rgb_in, params=plan.params, progress=None)
+
+    if plan.rig is not None:   # as run does: the method upsamples the aligned grid onto the color image
+        from ..rig.chain import refine_pair
+
+        depth_hr, _ = refine_pair(depth, rgb, method=plan.method.name, solve=solve)
     else:
-        depth_hr, state = plan.method.func(depth, rgb, params=plan.params, progress=None), None
+        depth_hr = solve(depth, rgb)
+    state = states[0]
     if plan.rig is not None and not plan.fill_holes:
         from ..rig.chain import keep_unmeasured
 

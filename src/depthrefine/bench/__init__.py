@@ -2,6 +2,8 @@
 
 - ``metrics``    error metrics against ground truth (RMSE, MAE, edge RMSE, bad pixels)
 - ``simulate``   a simulated low-resolution ToF sensor (our model) from ground truth
+- ``sensor``     ground truth seen by simulated real depth cameras beside the color camera (``sensor``)
+- ``holes``      leave-out hole filling on real captures (real hole shapes hidden on valid depth)
 - ``synthetic``  generated scenes with known ground truth, for tests
 - ``protocols``  the protocol registry: datasets, case builders, tuning scenes, published rows
 - ``runner``     runs methods x cases and scores them
@@ -27,4 +29,5 @@ _EXPORTS = {
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, (
-    "metrics", "simulate", "synthetic", "protocols", "runner", "report", "figures", "suite", "demo"))
+    "metrics", "simulate", "sensor", "holes", "synthetic", "protocols", "runner", "report", "figures", "suite",
+    "demo"))

@@ -178,27 +178,32 @@ def edges_picture(rgb: np.ndarray, depth: np.ndarray, *, near: float, far: float
 def mug_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | None = None) -> DemoOutput:
     """The Azure Kinect mug through the whole chain: factory calibration, reprojection, refinement, point cloud."""
     from ..io import load_capture, read_calibration
-    from ..rig.chain import AlignSettings, align_pair, keep_unmeasured
+    from ..rig.chain import AlignSettings, align_pair, keep_unmeasured, nearest_on_grid, refine_pair
     from ..rig.edges import edge_overlap
     from ..rig.pointcloud import depth_to_points
 
     capture = load_capture("mug")
     rig, _ = read_calibration(capture.calibration, depth_mode="NFOV_UNBINNED", color_resolution="720P")
     pair = align_pair(capture.depth, capture.rgb, rig, settings=AlignSettings(depth_units=capture.depth_units))
-    refined = keep_unmeasured(_refine(pair.depth_lr, pair.rgb_hr, method, f"demo mug: {method}", progress_bar),
-                              pair.depth_lr)
-    aligned_fit = edge_overlap(pair.depth_lr, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
+    update, close = progress_bar(f"demo mug: {method}") if progress_bar is not None else (None, lambda: None)
+    try:  # as run does: the method upsamples the depth-resolution grid (x2 here)
+        refined = keep_unmeasured(refine_pair(pair.depth_lr, pair.rgb_hr, method=method, progress=update)[0],
+                                  pair.depth_lr)
+    finally:
+        close()
+    aligned = nearest_on_grid(pair.depth_lr, pair.rgb_hr.shape[:2])  # as the refinement spreads it
+    aligned_fit = edge_overlap(aligned, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
     refined_fit = edge_overlap(refined, pair.rgb_hr, near=MUG_NEAR_MM, far=MUG_FAR_MM)
     figure = viz.comparison_figure(
         pair.rgb_hr,
-        [("depth reprojected into the color camera\n(factory calibration)", pair.depth_lr),
+        [("depth reprojected into the color camera\n(factory calibration)", aligned),
          (f"refined ({method})", refined)],
         units="mm", zoom=MUG_DETAIL, limits=(150.0, 2300.0), ncols=3,
         title="Azure Kinect (NFOV unbinned 640x576 ToF, 720p color): the whole chain on one real capture",
     )
     r0, r1, c0, c1 = MUG_DETAIL
     # The registration check: the reprojected depth's outline (red) on the color edges (green).
-    edges = edges_picture(pair.rgb_hr, pair.depth_lr, near=MUG_NEAR_MM, far=MUG_FAR_MM)[r0:r1, c0:c1]
+    edges = edges_picture(pair.rgb_hr, aligned, near=MUG_NEAR_MM, far=MUG_FAR_MM)[r0:r1, c0:c1]
     points, colors = depth_to_points(refined, pair.camera, rgb=pair.rgb_hr, depth_units=capture.depth_units, stride=2)
     fits = {name: {"fraction_within_2px": round(fit.fraction, 3), "median_px": round(fit.median_px, 2),
                    "silhouette_pixels": fit.pixels} for name, fit in (("aligned", aligned_fit), ("refined", refined_fit))}

@@ -90,6 +90,17 @@ def _protocols_in_order(rows: Sequence[BenchRow]) -> list[str]:
     return [p for p in PROTOCOLS if p in present] + sorted(present - set(PROTOCOLS))
 
 
+def _row_groups(rows: Sequence[BenchRow]) -> list[tuple[str, str, list[BenchRow]]]:
+    """``(label, protocol, rows)`` per protocol; the ``sensor`` protocol's split per sensor model (``<scene>-<model>``)."""
+    groups = []
+    for protocol in _protocols_in_order(rows):
+        mine = [r for r in rows if r.protocol == protocol]
+        models = sorted({r.scene.rsplit("-", 1)[-1] for r in mine}) if protocol == "sensor" else []
+        groups += ([(f"{protocol} {m}", protocol, [r for r in mine if r.scene.endswith(f"-{m}")]) for m in models]
+                   or [(protocol, protocol, mine)])
+    return groups
+
+
 def _scored_rows(rows: Sequence[BenchRow], protocol: str) -> tuple[list[BenchRow], bool]:
     """The rows a protocol's means use: its test rows, or all rows if it has none."""
     mine = [r for r in rows if r.protocol == protocol]
@@ -118,13 +129,13 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
     """
     tables: list[Table] = []
     methods = _methods_in_order(rows)
-    for protocol in _protocols_in_order(rows):
-        scored, fallback = _scored_rows(rows, protocol)
+    for label, protocol, group in _row_groups(rows):
+        scored, fallback = _scored_rows(group, protocol)
         scales = sorted({r.scale for r in scored})
         scenes = sorted({r.scene for r in scored})
         note = (f"mean over {len(scenes)} scene(s): {', '.join(scenes)}"
                 + (" (only tuning scenes are present, so they are included)" if fallback else ""))
-        tuned = sorted({r.scene for r in rows if r.protocol == protocol and r.split == "tune"})
+        tuned = sorted({r.scene for r in group if r.split == "tune"})
         if tuned and not fallback:
             why = ", ".join(f"{s} ({left_out_reason(protocol, s) or 'tuning scene'})" for s in tuned)
             note += f"; left out: {why}"
@@ -145,7 +156,7 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
             cells.append(_fmt(statistics.median(times), "seconds") if times else "–")
             body.append(tuple(cells))
         tables.append(Table(
-            title=f"{protocol}: mean RMSE — {PROTOCOLS[protocol].title if protocol in PROTOCOLS else protocol}",
+            title=f"{label}: mean RMSE — {PROTOCOLS[protocol].title if protocol in PROTOCOLS else protocol}",
             header=("method", *[f"×{s}" for s in scales], "s / image (median)"),
             body=tuple(body), note=note,
         ))
@@ -163,7 +174,7 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
                 body.append(tuple(cells))
         mp = mean_or_nan(r.megapixels for r in scored)
         tables.append(Table(
-            title=f"{protocol}: all metrics (means per method and scale)",
+            title=f"{label}: all metrics (means per method and scale)",
             header=("method", "scale", *[_METRIC_TITLES[k] for k in METRICS], "s / image"),
             body=tuple(body),
             note=f"{note}; images of {mp:.2f} MP on average; depth edges: jumps of ≥ "
@@ -178,8 +189,8 @@ OVERVIEW_PEERS = ("bicubic", "jbf", "guided", "fgs", "wmf")
 
 
 def overview_markdown(rows: Sequence[BenchRow], *, method: str = DEFAULT_METHOD,
-                      peers: Sequence[str] = OVERVIEW_PEERS) -> str:
-    """Every protocol on one table: mean RMSE per method, the scales of a protocol in one cell.
+                      peers: Sequence[str] = OVERVIEW_PEERS, metric: str = "rmse") -> str:
+    """Every protocol on one table: mean RMSE (or another ``metric``) per method, the scales of a protocol in one cell.
 
     A cell reads ``×4 / ×8 / ×16``; the best value of each protocol and scale
     is in bold. A last row gives how far ``method`` (the default) is below
@@ -194,18 +205,19 @@ def overview_markdown(rows: Sequence[BenchRow], *, method: str = DEFAULT_METHOD,
     >>> print(overview_markdown(rows).splitlines()[-1])
     | gbp below the best peer | 25 % / 25 % |
     """
-    protocols = _protocols_in_order(rows)
-    if not protocols:
+    groups = _row_groups(rows)
+    if not groups:
         return ""
+    protocols = [label for label, _, _ in groups]
     methods = _methods_in_order(rows)
     means: dict[tuple[str, str, int], float] = {}
     scales: dict[str, list[int]] = {}
-    for protocol in protocols:
-        scored, _ = _scored_rows(rows, protocol)
-        scales[protocol] = sorted({r.scale for r in scored})
+    for label, protocol, group in groups:
+        scored, _ = _scored_rows(group, protocol)
+        scales[label] = sorted({r.scale for r in scored})
         for m in methods:
-            for s in scales[protocol]:
-                means[protocol, m, s] = mean_or_nan(r.rmse for r in scored if r.method == m and r.scale == s)
+            for s in scales[label]:
+                means[label, m, s] = mean_or_nan(getattr(r, metric) for r in scored if r.method == m and r.scale == s)
 
     def best(protocol: str, s: int, among: Sequence[str]) -> float:
         values = [means[protocol, m, s] for m in among if math.isfinite(means.get((protocol, m, s), math.nan))]
@@ -433,13 +445,14 @@ def summary_markdown(
         out.append("")
     out.append("## Results")
     out.append("")
-    overview = overview_markdown(rows)
-    if overview:
-        present = [q for q in OVERVIEW_PEERS if q in _methods_in_order(rows)]
-        out += ["### All protocols: mean RMSE, ×4 / ×8 / ×16", "",
-                f"_Test scenes only; best of each protocol and scale in bold; the last row: how far the default "
-                f"method ({DEFAULT_METHOD}) is below the best of {', '.join(present) or 'the peers'}._", "",
-                overview]
+    for metric in ("rmse", "edge_rmse"):
+        overview = overview_markdown(rows, metric=metric)
+        if overview:
+            present = [q for q in OVERVIEW_PEERS if q in _methods_in_order(rows)]
+            out += [f"### All protocols: mean {_METRIC_TITLES[metric]}, ×4 / ×8 / ×16", "",
+                    f"_Test scenes only; best of each protocol and scale in bold; the last row: how far the default "
+                    f"method ({DEFAULT_METHOD}) is below the best of {', '.join(present) or 'the peers'}._", "",
+                    overview]
     for t in summary_tables(rows):
         out.append(_markdown_table(t))
     for t in published_table(rows):
@@ -466,13 +479,13 @@ def rmse_scale_figure(rows: Sequence[BenchRow]):
     """Mean RMSE (test scenes) against scale, one line per method, one panel per protocol."""
     from matplotlib.figure import Figure
 
-    protocols = _protocols_in_order(rows)
+    groups = _row_groups(rows)
     methods = _methods_in_order(rows)
-    fig = Figure(figsize=(4.2 * max(1, len(protocols)), 3.6), dpi=110, layout="constrained")
-    axes = fig.subplots(1, max(1, len(protocols)), squeeze=False)[0]
+    fig = Figure(figsize=(4.2 * max(1, len(groups)), 3.6), dpi=110, layout="constrained")
+    axes = fig.subplots(1, max(1, len(groups)), squeeze=False)[0]
     markers = "os^vDP*Xhd<>"
-    for ax, protocol in zip(axes, protocols):
-        scored, _ = _scored_rows(rows, protocol)
+    for ax, (label, protocol, group) in zip(axes, groups):
+        scored, _ = _scored_rows(group, protocol)
         scales = sorted({r.scale for r in scored})
         for i, m in enumerate(methods):
             ys = [mean_or_nan(r.rmse for r in scored if r.method == m and r.scale == s) for s in scales]
@@ -482,7 +495,7 @@ def rmse_scale_figure(rows: Sequence[BenchRow]):
         ax.minorticks_off()
         ax.set_xlabel("scale factor")
         ax.set_ylabel("mean RMSE")
-        ax.set_title(protocol, fontsize=10)
+        ax.set_title(label, fontsize=10)
         ax.grid(True, alpha=0.3)
     axes[-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     return fig

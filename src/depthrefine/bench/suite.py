@@ -21,7 +21,7 @@ from .protocols import PAIRS, PROTOCOLS, TUNING_SCENES, left_out_reason, load_ca
     register_protocol, tuned_on_scenes
 
 __all__ = ["DATA_ENV", "MAX_PAIR_FIGURES", "CaseFigure", "checkout_data_dir", "find_data_folder", "protocol_cases",
-           "pair_cases", "run_suite", "report_notes", "report_files"]
+           "pair_cases", "run_suite", "protocol_params", "report_notes", "report_files"]
 
 #: The environment variable naming the data folder when ``--data`` is not given.
 DATA_ENV = "DEPTHREFINE_DATA"
@@ -174,8 +174,9 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
         else:
             want = figures and case.scale == figure_scale
         offset = done_before
-        result = run_benchmark([case], methods, keep=(lambda c: want), progress=None if progress is None else (
-            lambda done, _total: progress(offset + done, total, label)))
+        result = run_benchmark([case], methods, params=protocol_params(case.protocol), keep=(lambda c: want),
+                               progress=None if progress is None else (
+                                   lambda done, _total: progress(offset + done, total, label)))
         done_before += len(methods)
         if want:
             made += 1
@@ -185,11 +186,22 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
         yield from draw_pending()
 
 
+def protocol_params(protocol: str) -> dict[str, Any]:
+    """``{method: params}`` a protocol tuned for itself (``Protocol.method_params``); the defaults for the rest."""
+    from ..methods.registry import get_method
+
+    entry = PROTOCOLS.get(protocol)
+    tuned = entry.method_params if entry is not None else {}
+    return {m: get_method(m).params_type(**fields) for m, fields in tuned.items()}
+
+
 def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] = ()) -> list[str]:
     """The notes under the report's tables: tuning, left-out scenes, simulated input, timing, skipped inputs."""
     from ..methods.peers import fast_bilateral_solver_status
 
-    tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES if tuned_on_scenes(p))
+    own = [p for p in TUNING_SCENES if PROTOCOLS[p].method_params]  # protocols that tune the peers for themselves
+    tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES
+                      if tuned_on_scenes(p) and p not in own)
     left_out = "; ".join(f"{p} {s} ({left_out_reason(p, s)})" for p, scenes in TUNING_SCENES.items() for s in scenes)
     present = {r.protocol for r in rows}
     notes = [
@@ -197,6 +209,11 @@ def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] 
         f"{tuned}. Every mean leaves out these scenes: {left_out}. The thesis method runs with its thesis "
         "defaults.",
     ]
+    for p in (p for p in own if p in present):
+        fields = "; ".join(f"{m}: " + ", ".join(f"{k} = {v}" for k, v in f.items())
+                           for m, f in PROTOCOLS[p].method_params.items() if m in methods)
+        notes.append(f"On the {p} protocol the peers use parameters tuned on its own tuning scenes "
+                     f"({', '.join(tuned_on_scenes(p))}; benchmarks/tune_peers.py --protocol {p}): {fields}.")
     if "gbp" in methods:
         notes.append("gbp's defaults were chosen on the same tuning scenes, except the local-range clip before the "
                      "guide trust and its hole margin (picked with the realtof Kinect capture in view) and the "
@@ -206,6 +223,11 @@ def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] 
         notes.append("The tuning set was revised after the lu results had been seen (noise-free middlebury30 "
                      "scenes were added when the Park-only tuning oversmoothed lu at x16), so lu is not a clean "
                      "hold-out.")
+    if "sensor" in present:
+        notes.append("The sensor protocol's input is simulated with our own sensor models (a depth camera beside "
+                     "the color camera, its footprint read as an iToF or a dToF pixel, noise, dark dropouts, a "
+                     "calibration error, reprojected with the rig chain; fixed seeds; see docs/bench.md): it is "
+                     "not a published protocol. Its scenes are <scene>-<model>; each model is its own column.")
     if "tof" in present:
         notes.append("The tof protocol's input is simulated with our own sensor model (footprint integration, "
                      "noise growing with distance, dropouts on dark surfaces, 8-bit quantisation, fixed seed; see "

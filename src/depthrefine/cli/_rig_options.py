@@ -28,6 +28,17 @@ def add_units_options(p: argparse.ArgumentParser) -> None:
                             "(255 at z_min metres: C = 255 * z_min)")
 
 
+def _factor(text: str) -> float:
+    """``--factor``: a number >= 1, kept an integer when it is one (``"2"`` -> 2, ``"1.21"`` -> 1.21)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number >= 1 such as 2 or 1.21; got {text!r}") from None
+    if not value >= 1 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a number >= 1 such as 2 or 1.21; got {text!r}")
+    return int(value) if value.is_integer() else value
+
+
 def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argparse.Action] | None = None,
                       method_flag: str = "--method") -> None:
     """The alignment options shared by ``align``, ``run`` and ``batch`` (None = take the settings file's value).
@@ -44,8 +55,9 @@ def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argpars
                         "horizontal shift: a parallel rig whose color image shows the depth camera's view; "
                         "refused when the background would land more than 1 depth pixel off)")
     add_units_options(p)
-    p.add_argument("--factor", type=int, metavar="S",
-                   help="reproject: scale factor s, the output is the color grid / s (default: focal-length ratio)")
+    p.add_argument("--factor", type=_factor, metavar="S",
+                   help="reproject: the output is the color grid / S, S >= 1 (default: the focal-length ratio, "
+                        "rounded when at least 2: a grid at the depth camera's resolution)")
     p.add_argument("--radial", action="store_true", default=None,
                    help="reproject: the depth is the distance along each ray, not Z")
     p.add_argument("--slope", type=float, metavar="K",

@@ -19,6 +19,9 @@ from ._picture_options import add_preview_option, check_window, write_preview
 if TYPE_CHECKING:
     from ..io import ChainSettings
 
+#: What --save-color writes.
+COLOR_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
+
 
 class _AlignMethod(argparse.Action):
     """``run --method``: the alignment method; a refinement method's name (the old meaning) still works.
@@ -48,10 +51,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         description=(
             "From a raw depth map and a raw color image of a calibrated rig to a refined depth map on the "
             "color image's grid: undistort both (spec step 1), align the depth with the color camera "
-            "(step 3: reproject by default, or the thesis's shift), then refine (the scale step, step 2, "
-            "happens there when the color/depth ratio is not an integer). --rig takes the rig file, or a "
-            "chain settings file (TOML/JSON) holding the rig, [align] and [refine]; options given here "
-            "override the file. The output keeps DEPTH's dtype and units."
+            "(step 3: reproject by default, onto a grid at the depth camera's resolution, or the thesis's "
+            "shift), then refine: the method upsamples by an integer factor of at least 2 (the scale step, "
+            "step 2: the color image is resized onto that grid when the ratio is not an integer and the "
+            "result resized back). --rig takes the rig file, or a chain settings file (TOML/JSON) holding the "
+            "rig, [align] and [refine]; options given here override the file. The output keeps DEPTH's dtype "
+            "and units unless --output-dtype/--output-scale say otherwise (float32 .tif/.npy keeps the "
+            "refined depth's fractions)."
         ),
     )
     p.add_argument("depth", metavar="DEPTH", help="raw depth map of the rig's depth camera")
@@ -78,6 +84,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_output_format_options(p)
     p.add_argument("--save-aligned", metavar="FILE",
                    help="also write the aligned low-resolution depth (before refinement)")
+    p.add_argument("--save-color", metavar="FILE",
+                   help="also write the color image the result lies on (undistorted when the color lens has "
+                        "distortion; .png, .jpg or .tif), so that the two overlay pixel for pixel")
     p.add_argument("--save-settings", metavar="FILE",
                    help="also write the chain settings used (rig inline) as JSON, to rerun with --rig FILE")
     add_preview_option(p)
@@ -101,10 +110,8 @@ def run_chain(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_distinct_inputs, check_output,
-                      read_depth, read_rgb, write_chain_settings, write_depth, write_ply)
-    from ..methods.registry import refine
-    from ..methods.scale import plan_scale
-    from ..rig.chain import align_pair, keep_unmeasured
+                      read_depth, read_rgb, write_chain_settings, write_depth, write_ply, write_rgb)
+    from ..rig.chain import align_pair, keep_unmeasured, refine_pair
     from ..rig.pointcloud import depth_to_points
 
     inputs = (args.depth, args.color, args.rig, args.settings)
@@ -113,6 +120,7 @@ def run_chain(args: argparse.Namespace) -> int:
     extra_outputs = {}
     for flag, path, suffixes in (("--ply", args.ply, (".ply",)), ("--save-aligned", args.save_aligned, DEPTH_SUFFIXES),
                                  ("--save-settings", args.save_settings, (".json",)),
+                                 ("--save-color", args.save_color, COLOR_SUFFIXES),
                                  ("--preview", args.preview, (".png",))):
         if path:
             extra_outputs[flag] = check_output(path, overwrite=args.overwrite, suffixes=suffixes, inputs=inputs,
@@ -137,10 +145,9 @@ def run_chain(args: argparse.Namespace) -> int:
     rgb_raw = read_rgb(args.color)
     pair = align_pair(depth_raw, rgb_raw, chain.rig, settings=align)
     check_window(args, pair.rgb_hr.shape[:2])
-    step = plan_scale(pair.depth_lr.shape, pair.rgb_hr.shape)
     update, close = progress_bar(f"refine ({method})")
     try:
-        depth_hr = refine(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
+        depth_hr, scale_note = refine_pair(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
     finally:
         close()
     fill_holes = args.fill_holes or chain.fill_holes
@@ -159,6 +166,8 @@ def run_chain(args: argparse.Namespace) -> int:
         if "--save-aligned" in extra_outputs:
             written.append(write_depth(extra_outputs["--save-aligned"], pair.depth_lr, dtype=depth_raw.dtype,
                                        overwrite=args.overwrite))
+        if "--save-color" in extra_outputs:
+            written.append(write_rgb(extra_outputs["--save-color"], pair.rgb_hr, overwrite=args.overwrite))
         if cloud is not None:
             written.append(write_ply(extra_outputs["--ply"], *cloud, overwrite=args.overwrite,
                                      comments=(f"depthrefine run {Path(args.depth).name} {Path(args.color).name}",
@@ -176,7 +185,7 @@ def run_chain(args: argparse.Namespace) -> int:
                 path.unlink()
         raise
     h, w = depth_hr.shape
-    notes = list(pair.notes) + [step.describe(), f"refined with {method}"]
+    notes = list(pair.notes) + [scale_note, f"refined with {method}"]
     if not fill_holes:
         notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0; --fill-holes fills them)")
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)

@@ -35,11 +35,12 @@ _EXPORTS = {
     ".shift": ("COLOR_SIDES", "ENCODINGS", "MAX_PARALLEL_ROTATION", "MAX_SHIFT_MISREGISTRATION",
                "AlignmentWarning", "background_depth", "align_shift", "ShiftModel", "shift_from_rig",
                "shift_misregistration"),
-    ".reproject": ("reproject_camera", "align_reproject"),
+    ".reproject": ("reproject_camera", "default_factor", "align_reproject"),
     ".pointcloud": ("PLAUSIBLE_DEPTH_M", "median_metres", "depth_to_metres", "metres_to_depth", "pixel_rays",
                     "backproject", "project_points", "depth_to_points", "color_grid_points"),
     ".coverage": ("COVERAGE_CELLS", "coverage_grid", "uncovered_share", "coverage_figure"),
-    ".chain": ("ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair"),
+    ".chain": ("ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "upsampling_grid",
+               "refine_pair", "nearest_on_grid"),
 }
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
