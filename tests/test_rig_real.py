@@ -273,7 +273,11 @@ def test_mug_unmeasured_pixels_stay_invalid_unless_fill_holes(mug_run):
         assert (corner == 0).all()
     assert np.array_equal(refined == 0, nearest_on_grid(aligned, refined.shape) == 0)  # the aligned depth's holes
     assert 0.40 < (refined == 0).mean() < 0.50
-    assert (filled == 0).mean() < 0.01  # --fill-holes: the refinement's depth everywhere
+    # --fill-holes: the holes inside a measured surface get the refinement's depth, what lies beyond any
+    # measurement (outside the hexagon) stays unmeasured
+    assert (filled == 0).mean() < (refined == 0).mean() - 0.01
+    for corner in (filled[:40, :40], filled[:40, -40:], filled[-40:, -40:], filled[300:400, :60]):
+        assert (corner == 0).all()
     again = mug_run["filled"].with_name("again.png")  # fill_holes = true read back from the settings file
     scene = sample_folder("mug")
     assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(mug_run["settings"]),

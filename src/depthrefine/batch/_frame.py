@@ -134,10 +134,10 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
     else:
         depth_hr = solve(depth, rgb)
     state = states[0]
-    if plan.rig is not None and not plan.fill_holes:
+    if plan.rig is not None:
         from ..rig.chain import keep_unmeasured
 
-        depth_hr = keep_unmeasured(depth_hr, depth)
+        depth_hr = keep_unmeasured(depth_hr, depth, fill_enclosed=plan.fill_holes)
     out = FrameOutput(depth_hr, notes=notes)
     if plan.color or plan.preview:
         out.rgb_hr = rgb

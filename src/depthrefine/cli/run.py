@@ -74,8 +74,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         f"{DEFAULT_METHOD}); --method is the alignment method here, as in align"))
     p.set_defaults(method=None)
     p.add_argument("--fill-holes", action="store_true",
-                   help="keep the refinement's depth everywhere; default: pixels no depth measurement reached "
-                        "(outside the depth camera's view, invalid in DEPTH, or hidden from it) stay invalid (0). "
+                   help="fill the holes that lie inside one measured surface (a dropout on a dark or shiny spot) "
+                        "with the refinement's depth; what lies beyond any measurement (outside the depth "
+                        "camera's view, hidden from it) stays invalid (0), as do all holes by default. "
                         "Also fill_holes = true in the settings file's [refine]")
     p.add_argument("--ply", metavar="FILE", help="also write the refined depth as a colored point cloud (.ply)")
     p.add_argument("--stride", type=int, default=1, metavar="N",
@@ -151,8 +152,7 @@ def run_chain(args: argparse.Namespace) -> int:
     finally:
         close()
     fill_holes = args.fill_holes or chain.fill_holes
-    if not fill_holes:
-        depth_hr = keep_unmeasured(depth_hr, pair.depth_lr)
+    depth_hr = keep_unmeasured(depth_hr, pair.depth_lr, fill_enclosed=fill_holes)
     stored, dtype = output_depth(args, depth_hr, depth_raw.dtype)
     cloud = None
     if args.ply:
@@ -186,8 +186,8 @@ def run_chain(args: argparse.Namespace) -> int:
         raise
     h, w = depth_hr.shape
     notes = list(pair.notes) + [scale_note, f"refined with {method}"]
-    if not fill_holes:
-        notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0; --fill-holes fills them)")
+    notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0)"
+                 + ("" if fill_holes else "; --fill-holes fills those inside a measured surface"))
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
     if cloud is not None:
         print(f"wrote {extra_outputs['--ply']} ({cloud[0].shape[0]} points)", file=sys.stderr)

@@ -245,15 +245,27 @@ def unmeasured_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarr
     return cv2.resize(invalid.astype(np.uint8), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT).astype(bool)
 
 
-def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray) -> np.ndarray:
+def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed: bool = False) -> np.ndarray:
     """``depth_hr`` (float32) with NaN wherever :func:`unmeasured_on_grid` says nothing was measured.
 
     A refinement fills every pixel; this takes back the depth it invented
-    where the sensor saw nothing (``depthrefine run`` does this unless
-    ``--fill-holes``).
+    where the sensor saw nothing (``depthrefine run`` does this). With
+    ``fill_enclosed`` (``run --fill-holes``), the holes that lie inside one
+    measured surface (:func:`depthrefine._fill.enclosed_holes` of
+    ``depth_lr``: a dropout on a dark or shiny spot, a thin sliver) keep the
+    refinement's depth, which carries that surface on; what lies beyond any
+    measurement (outside the view, a shadow beside a depth jump, a large
+    unmeasured region) stays unmeasured.
     """
     out = np.array(depth_hr, dtype=np.float32, copy=True)
-    out[unmeasured_on_grid(depth_lr, out.shape[:2])] = np.nan
+    lr = check_depth(depth_lr, "depth_lr").astype(np.float32)
+    with np.errstate(invalid="ignore"):
+        lr[~(lr > 0)] = np.nan
+    if fill_enclosed:
+        from .._fill import enclosed_holes
+
+        lr[enclosed_holes(lr)] = 1.0   # counts as measured: the refinement's depth stays there
+    out[unmeasured_on_grid(lr, out.shape[:2])] = np.nan
     return out
 
 
