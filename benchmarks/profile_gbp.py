@@ -48,13 +48,12 @@ STEPS = {
                                       "clamped_bicubic", "noise_levels", "reduce"),
     "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce"),
     "depthrefine.methods.gbp.fast": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
-                                     "clamped_bicubic", "reduce", "coarse_rounds", "fine_rounds", "blend_fallback",
-                                     "measured_trust"),
-    "depthrefine.methods._wls": ("color_weights", "depth_weights", "smooth", "smooth_gradient"),
+                                     "clamped_bicubic", "reduce", "blend_fallback", "measured_trust", "resize"),
+    "depthrefine.methods._wls": ("color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth"),
 }
 
 #: Solver functions whose calls are listed one by one (the rounds).
-PER_CALL = {"depth_weights", "smooth", "smooth_gradient"}
+PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth"}
 
 
 #: The clock of the timers: wall time, or with ``--cpu`` the calling thread's CPU time.

@@ -227,3 +227,16 @@ def test_expf32_is_exp_to_the_last_bit_of_float32_and_keeps_its_special_cases():
     special = np.array([0.0, -np.inf, np.inf, 89.0, -104.0, -103.5], np.float32)
     assert [float(expf32(x)) for x in special] == [1.0, 0.0, np.inf, np.inf, 0.0, float(np.float32(2.0 ** -149))]
     assert np.isnan(expf32(np.float32(np.nan)))
+
+
+@pytest.mark.parametrize("shape", [(37, 37), (23, 41)])
+def test_guided_smooth_is_smooth_with_the_edge_weights_bit_for_bit(shape):
+    """On a square image too, whose transposed scratch arrays have the shape of the weights'."""
+    guide, src = _scene(4, shape)
+    for iterations in (1, 3):
+        fused = _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, iterations=iterations)
+        apart = _wls.smooth(src, *_wls.edge_weights(guide, 6.0, src, 3.0), 40.0, iterations=iterations)
+        assert fused.tobytes() == apart.tobytes()
+    wx, wy = _wls.edge_weights(guide, 6.0, src, 3.0)
+    ref = _wls.depth_weights(src, 3.0, *_wls.color_weights(guide, 6.0))
+    assert wx.tobytes() == ref[0].tobytes() and wy.tobytes() == ref[1].tobytes()

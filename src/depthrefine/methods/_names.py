@@ -17,7 +17,7 @@ __all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "RegisteredMet
 DEFAULT_METHOD = "gbp"
 
 #: Every built-in method, in the order the registry registers them.
-BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp")
+BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp", "gbp-fast")
 
 #: Built-in methods registered only where a check at the registry's import says they work: the fast
 #: bilateral solver needs an OpenCV built with Eigen (:func:`~depthrefine.methods.peers.fast_bilateral_solver_status`).

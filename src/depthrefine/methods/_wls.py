@@ -44,13 +44,14 @@ image smoothing based on weighted least squares", IEEE TIP 23(12), 2014.
 from __future__ import annotations
 
 import functools
+import threading
 
 import numpy as np
 
 from .._numba import expf32, njit, run_split
 from .._validate import check_int, check_number
 
-__all__ = ["color_weights", "depth_weights", "smooth"]
+__all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth"]
 
 #: Columns (rows) solved together by one thread (one vectorised sweep).
 _BLOCK = 64
@@ -152,28 +153,56 @@ def _color_lut(channels: int, sigma_color: float) -> np.ndarray:
     return lut
 
 
+@njit(inline="always")
+def _color_distance2(a, b, j_a, j_b):
+    """Squared Euclidean distance of the colors ``a[j_a]`` and ``b[j_b]`` (rows of a uint8 guide), as int32."""
+    if a.shape[1] == 3:   # unrolled: the loop over the columns then vectorises
+        d0 = np.int32(a[j_a, 0]) - np.int32(b[j_b, 0])
+        d1 = np.int32(a[j_a, 1]) - np.int32(b[j_b, 1])
+        d2 = np.int32(a[j_a, 2]) - np.int32(b[j_b, 2])
+        return d0 * d0 + d1 * d1 + d2 * d2
+    total = np.int32(0)
+    for c in range(a.shape[1]):
+        d = np.int32(a[j_a, c]) - np.int32(b[j_b, c])
+        total += d * d
+    return total
+
+
 @njit
 def _color_weight_rows(guide, lut, wx, wy, i0, i1):
     """``lut[|dc|**2]`` between horizontal (``wx``) and vertical (``wy``) neighbours, rows ``i0:i1``."""
-    rows, cols, channels = guide.shape
+    rows, cols = guide.shape[:2]
     for i in range(i0, i1):
-        for j in range(cols):
-            if j + 1 < cols:
-                d2 = 0
-                for c in range(channels):
-                    d = np.int32(guide[i, j + 1, c]) - np.int32(guide[i, j, c])
-                    d2 += d * d
-                wx[i, j] = lut[d2]
-            else:
-                wx[i, j] = 0.0
-            if i + 1 < rows:
-                d2 = 0
-                for c in range(channels):
-                    d = np.int32(guide[i + 1, j, c]) - np.int32(guide[i, j, c])
-                    d2 += d * d
-                wy[i, j] = lut[d2]
-            else:
-                wy[i, j] = 0.0
+        row, out = guide[i], wx[i]
+        for j in range(cols - 1):
+            out[j] = lut[_color_distance2(row, row, j + 1, j)]
+        out[cols - 1] = 0.0
+        out = wy[i]
+        if i + 1 < rows:
+            below = guide[i + 1]
+            for j in range(cols):
+                out[j] = lut[_color_distance2(below, row, j, j)]
+        else:
+            out[:] = 0.0
+
+
+@njit
+def _edge_weight_rows(guide, lut, x, inv_sigma, wx, wy, i0, i1):
+    """:func:`_color_weight_rows` times :func:`_depth_weight_rows`' factor, rows ``i0:i1``.
+
+    Each row is made in two loops (the color weights, then the factor), which
+    vectorise; one loop doing both did not, and took twice their time.
+    """
+    rows, cols = x.shape
+    for i in range(i0, i1):
+        _color_weight_rows(guide, lut, wx, wy, i, i + 1)
+        x_row, out = x[i], wx[i]
+        for j in range(cols - 1):
+            out[j] *= expf32(-abs(x_row[j + 1] - x_row[j]) * inv_sigma)
+        if i + 1 < rows:
+            below, out = x[i + 1], wy[i]
+            for j in range(cols):
+                out[j] *= expf32(-abs(below[j] - x_row[j]) * inv_sigma)
 
 
 @njit
@@ -198,6 +227,16 @@ def _depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, i0, i1):
             out_row[:] = 0.0
 
 
+def _guide(guide: np.ndarray) -> np.ndarray:
+    """A checked guide as a C-contiguous (H, W, C) uint8 array (an (H, W) guide is one channel)."""
+    guide = np.asarray(guide)
+    if guide.ndim not in (2, 3):
+        raise ValueError(f"guide must be an (H, W) or (H, W, C) array; got shape {guide.shape}.")
+    if guide.dtype != np.uint8:  # a cast would wrap 16-bit values around 256 instead of scaling them
+        raise ValueError(f"guide must be uint8 (8-bit channels); got {guide.dtype}: scale it to 0..255 first.")
+    return np.ascontiguousarray(guide if guide.ndim == 3 else guide[:, :, None], dtype=np.uint8)
+
+
 def color_weights(guide: np.ndarray, sigma_color: float) -> tuple[np.ndarray, np.ndarray]:
     """Edge weights ``exp(-|dc| / sigma_color)`` of an (H, W, C) uint8 guide, as OpenCV's fast global smoother.
 
@@ -206,13 +245,8 @@ def color_weights(guide: np.ndarray, sigma_color: float) -> tuple[np.ndarray, np
     column / row). ``|dc|`` is the Euclidean distance of the two colors.
     An (H, W) guide is one channel.
     """
-    guide = np.asarray(guide)
-    if guide.ndim not in (2, 3):
-        raise ValueError(f"guide must be an (H, W) or (H, W, C) array; got shape {guide.shape}.")
-    if guide.dtype != np.uint8:  # a cast would wrap 16-bit values around 256 instead of scaling them
-        raise ValueError(f"guide must be uint8 (8-bit channels); got {guide.dtype}: scale it to 0..255 first.")
+    guide = _guide(guide)
     sigma_color = check_number("sigma_color", sigma_color, positive=True)
-    guide = np.ascontiguousarray(guide if guide.ndim == 3 else guide[:, :, None], dtype=np.uint8)
     lut = _color_lut(guide.shape[2], sigma_color)
     wx = np.empty(guide.shape[:2], np.float32)
     wy = np.empty(guide.shape[:2], np.float32)
@@ -232,6 +266,36 @@ def depth_weights(x: np.ndarray, sigma: float, wx: np.ndarray, wy: np.ndarray) -
     run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
               parallel=_parallel(x.shape))
     return out_x, out_y
+
+
+def edge_weights(guide: np.ndarray, sigma_color: float, x: np.ndarray, sigma: float
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`depth_weights` of :func:`color_weights`, in one pass: ``exp(-|dc| / sigma_color - |dx| / sigma)``.
+
+    The same bits as the two calls one after the other (each weight is the
+    color weight times the depth factor, rounded once), without the color
+    weights' own arrays.
+
+    Examples
+    --------
+    >>> guide = np.zeros((4, 6, 3), np.uint8); guide[:, 3:] = 255
+    >>> x = np.tile(np.arange(6, dtype=np.float32), (4, 1))
+    >>> wx, wy = edge_weights(guide, 4.0, x, 2.0)
+    >>> ref = depth_weights(x, 2.0, *color_weights(guide, 4.0))
+    >>> bool((wx == ref[0]).all() and (wy == ref[1]).all())
+    True
+    """
+    guide = _guide(guide)
+    x = np.ascontiguousarray(x, dtype=np.float32)
+    if x.shape != guide.shape[:2]:
+        raise ValueError(f"x must have the guide's shape {guide.shape[:2]}; got {x.shape}.")
+    lut = _color_lut(guide.shape[2], check_number("sigma_color", sigma_color, positive=True))
+    sigma = check_number("sigma", sigma, positive=True)
+    wx = np.empty(x.shape, np.float32)
+    wy = np.empty(x.shape, np.float32)
+    run_split(_edge_weight_rows, x.shape[0], guide, lut, x, np.float32(1.0 / sigma), wx, wy,
+              parallel=_parallel(x.shape))
+    return wx, wy
 
 
 def _weights(shape: tuple[int, int], wx: np.ndarray, wy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -300,8 +364,71 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
         low = w.min()
         if not low >= 0:
             raise ValueError(f"{name} must be >= 0 everywhere, without NaN; got min {low}.")
-    if not np.isfinite(u).all():
+    if not (np.isfinite(u.min()) and np.isfinite(u.max())):   # NaN propagates into min and max; no bool array
         raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
+    return _solve(u, wx, wy, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
+
+
+#: Per thread: scratch arrays of the last shapes solved (:func:`_scratch`).
+_local = threading.local()
+#: Uses and shapes whose scratch arrays a thread keeps (gbp-fast solves on two grids, each also transposed).
+_SCRATCH_SHAPES = 4
+
+
+def _scratch(use: str, shape: tuple[int, int], count: int = 2) -> list[np.ndarray]:
+    """``count`` float32 arrays of ``shape`` for ``use``, kept per thread for the next call of that use and shape.
+
+    A new array of megabytes costs a page fault per 4 KiB page when first
+    written (glibc maps large blocks afresh each time), which took more time
+    than the transposes they hold; kept, they are written in place. A thread
+    keeps those of its last :data:`_SCRATCH_SHAPES` uses and shapes. Only this
+    module's functions use them, never beyond their own call.
+    """
+    cache = getattr(_local, "scratch", None)
+    if cache is None:
+        cache = _local.scratch = {}
+    arrays = cache.pop((use, shape), [])
+    arrays += [np.empty(shape, np.float32) for _ in range(count - len(arrays))]
+    cache[use, shape] = arrays                              # most recent last
+    while len(cache) > _SCRATCH_SHAPES:
+        del cache[next(iter(cache))]
+    return arrays[:count]
+
+
+def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma: float, lam: float, *,
+                  iterations: int = 1, attenuation: float = 0.25) -> np.ndarray:
+    """:func:`smooth` of ``src`` with the weights :func:`edge_weights` of ``guide`` and ``src`` itself, fused.
+
+    The same result as ``smooth(src, *edge_weights(guide, sigma_color, src,
+    sigma), lam, ...)``, bit for bit, without handing out the weights: they
+    are made in this thread's scratch arrays, so a call on the shape of the
+    previous one allocates only its result. ``src`` must be finite (it is
+    converted to float32).
+
+    Examples
+    --------
+    >>> guide = np.zeros((4, 6, 3), np.uint8); guide[:, 3:] = 255
+    >>> src = np.tile(np.array([0, 1, 0, 10, 11, 10], np.float32), (4, 1))
+    >>> out = guided_smooth(src, guide, 4.0, 5.0, 100.0, iterations=3)
+    >>> bool((out == smooth(src, *edge_weights(guide, 4.0, src, 5.0), 100.0)).all())
+    True
+    """
+    guide = _guide(guide)
+    u = np.array(src, dtype=np.float32, order="C")
+    if u.shape != guide.shape[:2]:
+        raise ValueError(f"src must have the guide's shape {guide.shape[:2]}; got {u.shape}.")
+    lut = _color_lut(guide.shape[2], check_number("sigma_color", sigma_color, positive=True))
+    sigma = check_number("sigma", sigma, positive=True)
+    lam = check_number("lam", lam, nonnegative=True, finite=False)
+    iterations = check_int("iterations", iterations, minimum=1)
+    attenuation = check_number("attenuation", attenuation, nonnegative=True)
+    if u.size == 0:
+        return u
+    if not (np.isfinite(u.min()) and np.isfinite(u.max())):
+        raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
+    wx, wy = _scratch("weights", u.shape)
+    run_split(_edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
+              parallel=_parallel(u.shape))
     return _solve(u, wx, wy, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
 
 
@@ -319,8 +446,9 @@ def _solve(u: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam32: np.float32, ite
 
     parallel = _parallel(u.shape)
     rows, cols = u.shape
-    u_t = cv2.transpose(u)
-    wx_t = cv2.transpose(wx)
+    u_t, wx_t = _scratch("transposed", (cols, rows))
+    u_t = cv2.transpose(u, dst=u_t)
+    wx_t = cv2.transpose(wx, dst=wx_t)
     for k in range(iterations):
         run_split(_solve_columns, _blocks(rows), u_t, wx_t, lam32, parallel=parallel)
         u = cv2.transpose(u_t, dst=u)
