@@ -33,7 +33,7 @@ import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-__all__ = ["njit", "run_split", "threads", "expf32"]
+__all__ = ["njit", "run_split", "threads", "expf32", "warm_up"]
 
 #: Whether the no-cache warning was given (once per process, not once per kernel).
 _warned_no_cache = False
@@ -58,6 +58,22 @@ def njit(func=None, /, **options):
                               "directory.", RuntimeWarning, stacklevel=3)
             return numba.njit(nogil=True, **options)(f)
     return wrap if func is None else wrap(func)
+
+
+@njit
+def _first_kernel(x):
+    return x + 1
+
+
+def warm_up() -> None:
+    """Make numba ready to run compiled kernels: its first one in a process costs about a second.
+
+    That second is numba setting up its CPU target (importing its own
+    implementations, SciPy's BLAS bindings among them) before it loads the
+    first kernel from the cache; later kernels load in milliseconds. The
+    command line calls this in a thread while it reads the images.
+    """
+    _first_kernel(1)
 
 
 #: The worker threads of :func:`run_split`, per process (a forked child starts its own).

@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 from typing import Iterator
 
-__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "RegisteredMethodNames"]
+__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "RegisteredMethodNames"]
 
 #: The method of :func:`depthrefine.refine` and of the commands when none is named: guided
 #: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).
@@ -22,6 +22,10 @@ BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", 
 #: Built-in methods registered only where a check at the registry's import says they work: the fast
 #: bilateral solver needs an OpenCV built with Eigen (:func:`~depthrefine.methods.peers.fast_bilateral_solver_status`).
 PROBED_METHODS = ("fbs",)
+
+#: Built-in methods that run numba's compiled kernels: the command line sets numba up in a thread while it
+#: reads the images (:func:`depthrefine._numba.warm_up`).
+COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
 
 _REGISTRY = "depthrefine.methods.registry"
 
