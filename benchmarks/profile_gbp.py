@@ -11,7 +11,11 @@ round's depth weights and smooth), so each round shows on its own line.
 
 Usage::
 
-    python benchmarks/profile_gbp.py [--method gbp] [--repeats 5] [--inputs thesis,art4] [--cpu]
+    python benchmarks/profile_gbp.py [--method gbp] [--repeats 5] [--inputs thesis,art4] [--cpu | --memory]
+
+``--memory`` says instead, per step, the peak of the memory the call holds
+(``tracemalloc``: NumPy's and OpenCV's arrays), in multiples of the output
+depth map's bytes, between the end of the step before and the end of this one.
 
 ``--cpu`` runs everything in one thread (OpenCV and the solver's threads
 off) and times the CPU seconds of that thread (``time.thread_time``): on a
@@ -58,6 +62,40 @@ PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth"}
 
 #: The clock of the timers: wall time, or with ``--cpu`` the calling thread's CPU time.
 clock = time.perf_counter
+
+
+class StepMemory:
+    """Per path of nested step calls: the peak traced memory (bytes above the call's start) up to its end."""
+
+    def __init__(self, start: int):
+        self.start = start
+        self.stack: list[str] = []
+        self.peaks: dict[tuple[str, ...], int] = {}
+        self.counts: dict[tuple[str, ...], int] = defaultdict(int)
+
+    def wrap(self, name: str, func):
+        import tracemalloc
+
+        @functools.wraps(func)
+        def traced(*args, **kwargs):
+            parent = tuple(self.stack)
+            label = name
+            if name in PER_CALL:
+                self.counts[parent + (name,)] += 1
+                label = f"{name}#{self.counts[parent + (name,)]}"
+            self.stack.append(label)
+            path = tuple(self.stack)
+            self.peaks.setdefault(path, 0)
+            try:
+                return func(*args, **kwargs)
+            finally:
+                peak = tracemalloc.get_traced_memory()[1]
+                tracemalloc.reset_peak()
+                self.peaks[path] = max(self.peaks[path], peak - self.start)
+                self.stack.pop()
+        return traced
+
+    installed = None   # set below (the same installation as StepTimer's)
 
 
 class StepTimer:
@@ -107,6 +145,25 @@ class StepTimer:
                 setattr(module, name, func)
 
 
+StepMemory.installed = StepTimer.installed
+
+
+def memory_profile(depth, rgb, method: str) -> tuple[dict[tuple[str, ...], int], int, int]:
+    """Peak traced bytes per step path (above the call's start), the call's peak, and the output's bytes."""
+    import tracemalloc
+
+    depthrefine.refine(depth, rgb, method=method)  # warm-up
+    tracemalloc.start()
+    start = tracemalloc.get_traced_memory()[0]
+    tracer = StepMemory(start)
+    with tracer.installed():
+        out = depthrefine.refine(depth, rgb, method=method)
+    peak = max(tracer.peaks.values(), default=0)
+    peak = max(peak, tracemalloc.get_traced_memory()[1] - start)
+    tracemalloc.stop()
+    return tracer.peaks, peak, out.nbytes
+
+
 def profile(depth, rgb, method: str, repeats: int) -> tuple[dict[tuple[str, ...], float], float]:
     """Median seconds of each step path over ``repeats`` calls, and of the whole call."""
     depthrefine.refine(depth, rgb, method=method)  # warm-up
@@ -143,7 +200,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--inputs", default="thesis,art4", help=f"comma-separated, of {sorted(SHORT)}")
     ap.add_argument("--cpu", action="store_true", help="one thread; CPU seconds of that thread")
+    ap.add_argument("--memory", action="store_true", help="the peak memory per step instead of the time")
     args = ap.parse_args(argv)
+    if args.memory:
+        for short in args.inputs.split(","):
+            name = SHORT[short]
+            depth, rgb = INPUTS[name]()
+            peaks, peak, out_bytes = memory_profile(depth, rgb, args.method)
+            print(f"{args.method}, {name}: peak {peak / 2**20:.1f} MB = {peak / out_bytes:.1f} x the output")
+            for path, value in peaks.items():
+                print(f"  {'  ' * (len(path) - 1)}{path[-1]:{40 - 2 * len(path)}s} {value / out_bytes:6.1f} x")
+        return 0
     global clock
     if args.cpu:
         import cv2
