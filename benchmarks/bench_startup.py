@@ -190,6 +190,8 @@ def format_first_call(result: dict) -> list[str]:
         lines.append(f"{method:10s} {r['fresh'] * 1e3:9.0f} {r['second'] * 1e3:12.0f} {base * 1e3:11.0f} {ratio:6.2f}  "
                      f"{verdict}")
     lines.append(f"target: fresh process <= {FIRST_CALL_FACTOR} x (second call in one process + bare import)")
+    if sys.flags.dont_write_bytecode:
+        lines.append("note: PYTHONDONTWRITEBYTECODE is set, so every fresh process compiles depthrefine's modules again")
     for method, r in result.items():
         if method == "bare":
             continue
