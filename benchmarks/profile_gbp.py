@@ -64,20 +64,22 @@ PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth"}
 clock = time.perf_counter
 
 
-class StepMemory:
-    """Per path of nested step calls: the peak traced memory (bytes above the call's start) up to its end."""
+class StepRecorder:
+    """Wraps the step functions of :data:`STEPS`; subclasses say what they record at a step's start and end."""
 
-    def __init__(self, start: int):
-        self.start = start
+    def __init__(self):
         self.stack: list[str] = []
-        self.peaks: dict[tuple[str, ...], int] = {}
         self.counts: dict[tuple[str, ...], int] = defaultdict(int)
 
-    def wrap(self, name: str, func):
-        import tracemalloc
+    def start(self, path: tuple[str, ...]) -> object:
+        raise NotImplementedError
 
+    def end(self, path: tuple[str, ...], token: object) -> None:
+        raise NotImplementedError
+
+    def wrap(self, name: str, func):
         @functools.wraps(func)
-        def traced(*args, **kwargs):
+        def recorded(*args, **kwargs):
             parent = tuple(self.stack)
             label = name
             if name in PER_CALL:
@@ -85,44 +87,13 @@ class StepMemory:
                 label = f"{name}#{self.counts[parent + (name,)]}"
             self.stack.append(label)
             path = tuple(self.stack)
-            self.peaks.setdefault(path, 0)
+            token = self.start(path)
             try:
                 return func(*args, **kwargs)
             finally:
-                peak = tracemalloc.get_traced_memory()[1]
-                tracemalloc.reset_peak()
-                self.peaks[path] = max(self.peaks[path], peak - self.start)
+                self.end(path, token)
                 self.stack.pop()
-        return traced
-
-    installed = None   # set below (the same installation as StepTimer's)
-
-
-class StepTimer:
-    """Seconds per path of nested step calls (``back_project/smooth#3``), summed within one call."""
-
-    def __init__(self):
-        self.stack: list[str] = []
-        self.times: dict[tuple[str, ...], float] = defaultdict(float)
-        self.counts: dict[tuple[str, ...], int] = defaultdict(int)
-
-    def wrap(self, name: str, func):
-        @functools.wraps(func)
-        def timed(*args, **kwargs):
-            parent = tuple(self.stack)
-            label = name
-            if name in PER_CALL:
-                self.counts[parent + (name,)] += 1
-                label = f"{name}#{self.counts[parent + (name,)]}"
-            self.stack.append(label)
-            self.times.setdefault(tuple(self.stack), 0.0)  # entry order: a parent before its children
-            t0 = clock()
-            try:
-                return func(*args, **kwargs)
-            finally:
-                self.times[tuple(self.stack)] += clock() - t0
-                self.stack.pop()
-        return timed
+        return recorded
 
     @contextlib.contextmanager
     def installed(self):
@@ -145,7 +116,38 @@ class StepTimer:
                 setattr(module, name, func)
 
 
-StepMemory.installed = StepTimer.installed
+class StepTimer(StepRecorder):
+    """Seconds per path of nested step calls (``back_project/smooth#3``), summed within one call."""
+
+    def __init__(self):
+        super().__init__()
+        self.times: dict[tuple[str, ...], float] = defaultdict(float)
+
+    def start(self, path):
+        self.times.setdefault(path, 0.0)  # entry order: a parent before its children
+        return clock()
+
+    def end(self, path, token):
+        self.times[path] += clock() - token
+
+
+class StepMemory(StepRecorder):
+    """Per path of nested step calls: the peak traced memory (bytes above the call's start) up to its end."""
+
+    def __init__(self, start: int):
+        super().__init__()
+        self.origin = start
+        self.peaks: dict[tuple[str, ...], int] = {}
+
+    def start(self, path):
+        self.peaks.setdefault(path, 0)
+
+    def end(self, path, token):
+        import tracemalloc
+
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.reset_peak()
+        self.peaks[path] = max(self.peaks[path], peak - self.origin)
 
 
 def memory_profile(depth, rgb, method: str) -> tuple[dict[tuple[str, ...], int], int, int]:

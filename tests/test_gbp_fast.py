@@ -11,19 +11,9 @@ from depthrefine.evaluate import rmse
 from depthrefine.methods.gbp import GbpParams
 from depthrefine.methods.gbp.fast import GbpFastParams, upsample_gbp_fast, work_shape
 
+from test_gbp import _area, _step
+
 cv2 = pytest.importorskip("cv2")
-
-
-def _area(depth_hr: np.ndarray, s: int) -> np.ndarray:
-    h, w = depth_hr.shape[0] // s, depth_hr.shape[1] // s
-    return depth_hr[: h * s, : w * s].reshape(h, s, w, s).mean(axis=(1, 3)).astype(np.float32)
-
-
-def _step(rows=48, cols=64, s=4, edge_col=29):
-    gt = np.where(np.arange(cols)[None, :] < edge_col, 40.0, 200.0).repeat(rows, axis=0).astype(np.float32)
-    rgb = np.zeros((rows, cols, 3), np.uint8)
-    rgb[:, edge_col:] = 255
-    return gt, rgb, _area(gt, s)
 
 
 def test_it_is_registered_with_its_parameters():

@@ -137,25 +137,10 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
                       progress: Progress | None = None) -> np.ndarray:
     """gbp on a reduced grid and one edge-aware solve at full resolution: upsample ``depth_lr`` to ``rgb_hr``'s grid.
 
-    Parameters
-    ----------
-    depth_lr : (h, w) ndarray
-        Low-resolution depth, any units; 0/NaN/inf/negative = no measurement.
-    rgb_hr : (H, W, 3) ndarray
-        Registered color image (RGB; uint8, uint16 or float in [0, 1]).
-    params : GbpFastParams, optional
-    progress : callable, optional
-        ``progress(done, total)`` after each round and at the end.
-
-    Returns
-    -------
-    (H, W) float32 ndarray
-        Depth in the units of ``depth_lr``, within its valid range.
-
-    Raises
-    ------
-    TypeError, ValueError
-        Wrong params type, bad arrays, or no valid depth pixel.
+    The arguments, the result (float32 on the color grid, in ``depth_lr``'s
+    units, within its valid range) and the errors are those of
+    :func:`~.upsample.upsample_gbp`; ``params`` is a :class:`GbpFastParams`,
+    and ``progress(done, total)`` is called after each round and at the end.
 
     Examples
     --------
