@@ -18,11 +18,11 @@ def fill_invalid_nearest(depth: np.ndarray) -> np.ndarray:
     >>> fill_invalid_nearest(np.array([[1, np.nan, np.nan, 4]], np.float32)).tolist()
     [[1.0, 1.0, 4.0, 4.0]]
     """
-    from scipy import ndimage
-
     valid = np.isfinite(depth)
     if valid.all():
         return depth.copy()
+    from scipy import ndimage   # only for holes: importing it costs about half a second
+
     _, (ir, ic) = ndimage.distance_transform_edt(~valid, return_indices=True)
     return depth[ir, ic]
 

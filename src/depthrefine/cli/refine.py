@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import sys
+import threading
 from pathlib import Path
 
 from .. import __version__
@@ -39,6 +40,36 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    warm = _warm_up_numba(args.method)
+    try:
+        return _run(args)
+    finally:
+        if warm is not None:
+            warm.join()
+
+
+def _warm_up_numba(method: str) -> threading.Thread | None:
+    """For a method that runs compiled kernels, numba's one-time set-up in a thread (while the images are read)."""
+    from ..methods._names import COMPILED_METHODS
+
+    if method not in COMPILED_METHODS:
+        return None
+
+    def warm() -> None:
+        try:
+            from .._numba import warm_up
+
+            warm_up()
+        except Exception:   # no numba, no cache: the refine itself says what is wrong
+            pass
+
+    thread = threading.Thread(target=warm, name="depthrefine-numba-warm-up")
+    thread.start()
+    return thread
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .. import viz
     from .._validate import as_depth
     from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_distinct_inputs, check_output,
                       check_output_dir, read_depth, read_rgb, write_depth, write_intermediates)

@@ -14,14 +14,15 @@ from typing import TYPE_CHECKING, Iterator
 if TYPE_CHECKING:
     from .options import MethodOption
 
-__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "RegisteredMethodNames", "registered_method_options"]
+__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "RegisteredMethodNames",
+           "registered_method_options"]
 
 #: The method of :func:`depthrefine.refine` and of the commands when none is named: guided
 #: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).
 DEFAULT_METHOD = "gbp"
 
 #: Every built-in method, in the order the registry registers them.
-BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp")
+BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp", "gbp-fast")
 
 #: Built-in methods registered only where a check at the registry's import says they work: the fast
 #: bilateral solver needs an OpenCV built with Eigen (:func:`~depthrefine.methods.peers.fast_bilateral_solver_status`).
@@ -30,6 +31,10 @@ PROBED_METHODS = ("fbs",)
 #: The light modules holding the built-in methods' command-line options (an ``OPTIONS`` tuple each); the
 #: registry gives each method the same tuple (``Method.options``).
 BUILTIN_OPTION_MODULES = {"thesis": "depthrefine.methods.thesis._options"}
+
+#: Built-in methods that run numba's compiled kernels: the command line sets numba up in a thread while it
+#: reads the images (:func:`depthrefine._numba.warm_up`).
+COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
 
 _REGISTRY = "depthrefine.methods.registry"
 

@@ -22,6 +22,7 @@ from typing import Any, Callable
 import numpy as np
 
 from . import baselines, gbp, peers
+from .gbp.fast import GbpFastParams, upsample_gbp_fast
 from .._validate import check_pixels
 from ._names import DEFAULT_METHOD
 from .intermediates import Intermediates
@@ -290,3 +291,6 @@ register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolatin
                 refine_stateful=gbp.upsample_gbp_stateful,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")
+register_method("gbp-fast", upsample_gbp_fast, params_type=GbpFastParams, interpolating=True,
+                summary="gbp for video rates: back-projection on a reduced grid, one edge-aware solve at full "
+                        "resolution, the same fallback where the guide disagrees with the depth")

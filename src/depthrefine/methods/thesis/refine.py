@@ -372,7 +372,7 @@ class _Context:
     """What every patch reads (shared, never written while patches are solved)."""
 
     depth: np.ndarray          # (h, w) float32, NaN = no measurement
-    lab: np.ndarray            # (Hw, Ww, 3) float32: L*a*b* of the median-filtered color
+    color: np.ndarray          # (Hw, Ww, 3): the median-filtered color (each patch makes its own L*a*b*)
     nearest: np.ndarray        # (h, w): nearest valid depth anywhere (for patches without any)
     s: int                     # the integer scale factor
     levels: _Levels
@@ -469,14 +469,14 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     if step.resizes_color:
         warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
     levels = _levels(depth, np.asarray(depth_lr).dtype == np.uint8, params)
-    filtered, lab = _color_features(rgb, step, params)
+    filtered = _color_features(rgb, step, params)
     lr_patches, owner = _lr_patches(params, depth.shape, step)
     with _timed("nearest fill"):
         nearest = fill_invalid_nearest(depth)
     stateful = warm is not False
     previous = warm if stateful and isinstance(warm, _WarmState) and warm.patches == lr_patches \
         and warm.params == params and len(warm.means) == len(lr_patches) else None
-    ctx = _Context(depth=depth, lab=lab, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
+    ctx = _Context(depth=depth, color=filtered, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
                    init_means=None if previous is None else previous.means, want_means=stateful)
     canvas = _Canvas.empty(step.work_shape, depth.shape, params.n_clusters, keep)
     means = []
@@ -491,19 +491,21 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     return (result, _WarmState(lr_patches, params, means)) if stateful else result
 
 
-def _color_features(rgb: np.ndarray, step: ScaleStep, params: ThesisParams) -> tuple[np.ndarray, np.ndarray]:
-    """4.3.1-4.3.2 on the whole work grid: the median-filtered color and its L*a*b*.
+def _color_features(rgb: np.ndarray, step: ScaleStep, params: ThesisParams) -> np.ndarray:
+    """4.3.1 on the whole work grid: the median-filtered color.
 
     The median runs on the whole image at once (at a patch border the window
-    sees the neighbouring patch, not a mirrored edge); L*a*b* is per pixel.
+    sees the neighbouring patch, not a mirrored edge). Its L*a*b* (4.3.2),
+    per pixel, is made by each patch in its own thread (:func:`_solve_patch`):
+    OpenCV's conversion gives each pixel the same value whatever the image
+    around it (checked on whole images, patches, single pixels and shuffled
+    pixels), and a whole-image pass was a step of its own between the median
+    and the patches.
     """
     with _timed("scale step"):
         rgb_work = resize_color(rgb, step)
     with _timed("median"):
-        filtered = median_rgb(rgb_work, params.median_size)
-    with _timed("lab"):
-        lab = rgb_to_lab(filtered)
-    return filtered, lab
+        return median_rgb(rgb_work, params.median_size)
 
 
 def _lr_patches(params: ThesisParams, depth_shape: tuple[int, int],
@@ -525,7 +527,7 @@ def _solve_patches(ctx: _Context, lr_patches: list[tuple[int, int, int, int]]) -
 
     workers = min(len(lr_patches), threads(), _MAX_THREADS)
     solve = functools.partial(_solve_patch, ctx, lr_patches)
-    if workers <= 1 or ctx.lab.shape[0] * ctx.lab.shape[1] < _PARALLEL_MIN_PIXELS:
+    if workers <= 1 or ctx.color.shape[0] * ctx.color.shape[1] < _PARALLEL_MIN_PIXELS:
         for index in range(len(lr_patches)):
             yield solve(index)
         return
@@ -564,9 +566,11 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
     s, params, levels = ctx.s, ctx.params, ctx.levels
     init = None if ctx.init_means is None else ctx.init_means[index]
     # 4.3.2-4.3.3: unified L*, k-means.
+    with _timed("lab"):
+        lab = rgb_to_lab(ctx.color[r0 * s:r1 * s, c0 * s:c1 * s])
     with _timed("clustering"):
         clustered = cluster_colors(
-            ctx.lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
+            lab, n_clusters=params.n_clusters,
             iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
             white_bound=params.white_bound, max_lightness=params.max_lightness,
             lightness_weight=params.lightness_weight, return_features=ctx.keep or ctx.want_means,
@@ -673,9 +677,14 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     valid = np.isfinite(corrected)
     # Cluster c's samples in plane c of (k, hp, wp) masks; one dilation for all planes.
     masks = valid[None] & (lab_samples[None] == np.arange(k, dtype=lab_samples.dtype)[:, None, None])
-    values = np.where(masks, corrected[None], 0.0)
     grown = masks
-    if expansion > 0 and masks.any():
+    if expansion == 1:   # the default: one pass of a compiled kernel instead of a dilation and a transform per cluster
+        values = np.empty(masks.shape)
+        grown = np.empty(masks.shape, bool)
+        _jit.grow_samples(masks, corrected, values, grown)
+    else:
+        values = np.where(masks, corrected[None], 0.0)
+    if expansion > 1 and masks.any():
         grown = ndimage.binary_dilation(masks, structure=np.ones((1, 3, 3), dtype=bool), iterations=expansion)
         for c in range(k):
             if masks[c].any() and not masks[c].all():  # new positions: the value of the nearest sample
