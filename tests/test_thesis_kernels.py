@@ -11,7 +11,8 @@ import pytest
 from scipy import ndimage
 
 from depthrefine.methods.thesis import segment
-from depthrefine.methods.thesis.refine import _axis_weights, _interpolate_clusters, correct_cluster_depths
+from depthrefine.methods.thesis.interpolate import _axis_weights, _interpolate_clusters
+from depthrefine.methods.thesis.refine import correct_cluster_depths
 
 
 # ----------------------------------------------------------------------------

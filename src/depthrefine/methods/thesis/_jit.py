@@ -156,7 +156,7 @@ def lloyd(x, w, means, iterations):
 
 
 # ----------------------------------------------------------------------------
-# Interpolation (refine._interpolate_clusters)
+# Interpolation (interpolate._interpolate_clusters)
 # ----------------------------------------------------------------------------
 
 

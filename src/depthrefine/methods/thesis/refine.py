@@ -24,11 +24,12 @@ from typing import Any, Callable, Iterator
 
 import numpy as np
 
-from ..._lazy import ndimage
 from ..._validate import as_depth, check_pixels, check_rgb, valid_range
 from ..._fill import fill_invalid_nearest
 from .params import ThesisParams
 from ..scale import ScaleStep, ScaleWarning, plan_scale, resize_color, resize_depth_nearest
+from .interpolate import _interpolate_clusters, _nearest_samples, _spread
+from .patches import _manual_patches, patch_grid
 from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
@@ -219,69 +220,6 @@ def refine_with_intermediates(
     ((8, 8), 4, 2)
     """
     return _run(depth_lr, rgb_hr, params, progress, keep=True)
-
-
-# ----------------------------------------------------------------------------
-# Step 4: patches
-# ----------------------------------------------------------------------------
-
-
-def patch_grid(depth_shape: tuple[int, int], patches: tuple[int, int]) -> list[tuple[int, int, int, int]]:
-    """Even patch grid on the depth grid: ``(row0, row1, col0, col1)`` per patch.
-
-    ``patches`` is ``(across, down)``. Each patch holds whole depth pixels;
-    a grid finer than the depth map collapses to one patch per depth pixel.
-
-    Examples
-    --------
-    >>> patch_grid((10, 8), (2, 2))
-    [(0, 5, 0, 4), (0, 5, 4, 8), (5, 10, 0, 4), (5, 10, 4, 8)]
-    """
-    h, w = depth_shape
-    across, down = patches
-    rows = np.unique(np.floor(np.linspace(0, h, down + 1) + 0.5).astype(int))
-    cols = np.unique(np.floor(np.linspace(0, w, across + 1) + 0.5).astype(int))
-    return [(int(r0), int(r1), int(c0), int(c1))
-            for r0, r1 in zip(rows[:-1], rows[1:]) for c0, c1 in zip(cols[:-1], cols[1:])]
-
-
-def _manual_patches(
-    layout: tuple[tuple[int, int, int, int], ...], depth_shape: tuple[int, int], color_shape: tuple[int, int]
-) -> tuple[list[tuple[int, int, int, int]], np.ndarray]:
-    """Snap manual rectangles (color pixels) to the depth grid; return them and the owner map."""
-    h, w = depth_shape
-    H, W = color_shape
-    owner = np.full((h, w), -1, dtype=np.int32)
-    out = []
-    for i, (x, y, width, height) in enumerate(layout):
-        if x + width > W or y + height > H:
-            raise ValueError(
-                f"manual patch {i} (patch_layout / --patch-file: x={x}, y={y}, width={width}, height={height}) reaches outside the "
-                f"color image ({W}x{H}); keep every rectangle inside it."
-            )
-        c0 = int(np.floor(x * w / W + 0.5))
-        c1 = int(np.floor((x + width) * w / W + 0.5))
-        r0 = int(np.floor(y * h / H + 0.5))
-        r1 = int(np.floor((y + height) * h / H + 0.5))
-        c1, r1 = max(c1, c0 + 1), max(r1, r0 + 1)
-        c0, r0 = min(c0, w - 1), min(r0, h - 1)
-        c1, r1 = min(c1, w), min(r1, h)
-        owner[r0:r1, c0:c1] = i
-        out.append((r0, r1, c0, c1))
-    missing = np.argwhere(owner < 0)
-    if len(missing):
-        r, c = missing[0]
-        s_r, s_c = H / h, W / w
-        raise ValueError(
-            f"the manual patches (patch_layout / --patch-file) leave {len(missing)} depth pixels uncovered, the first near color pixel "
-            f"x={int(c * s_c)}, y={int(r * s_r)}; the rectangles must cover the whole image."
-        )
-    return out, owner
-
-
-# ----------------------------------------------------------------------------
-# Step 6.3-6.4: histogram statistics and correction
-# ----------------------------------------------------------------------------
 
 
 def correct_cluster_depths(
@@ -657,103 +595,3 @@ def _timed(name: str) -> Iterator[None]:
         with _STEP_LOCK:
             if _STEP_TIMES is not None:
                 _STEP_TIMES[name] = _STEP_TIMES.get(name, 0.0) + elapsed
-
-
-def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep):
-    """Steps 7.1-7.4 for one patch: each pixel interpolated from its own cluster only.
-
-    For cluster ``c``, the valid corrected samples labelled ``c`` are dilated
-    by ``expansion`` depth pixels (new positions take the value of the nearest
-    cluster-``c`` sample), then interpolated bilinearly on the patch's color
-    grid, normalised by the weight of the samples present (so a missing
-    neighbour is never averaged in). Each pixel keeps the value of its own
-    cluster's map. Returns the combined patch (NaN where a pixel's cluster had
-    no sample in reach), if ``keep`` the per-cluster maps, and the count of
-    pixels that are not finite.
-    """
-    from . import _jit
-
-    hp, wp = corrected.shape
-    valid = np.isfinite(corrected)
-    # Cluster c's samples in plane c of (k, hp, wp) masks; one dilation for all planes.
-    masks = valid[None] & (lab_samples[None] == np.arange(k, dtype=lab_samples.dtype)[:, None, None])
-    grown = masks
-    if expansion == 1:   # the default: one pass of a compiled kernel instead of a dilation and a transform per cluster
-        values = np.empty(masks.shape)
-        grown = np.empty(masks.shape, bool)
-        _jit.grow_samples(masks, corrected, values, grown)
-    else:
-        values = np.where(masks, corrected[None], 0.0)
-    if expansion > 1 and masks.any():
-        grown = ndimage.binary_dilation(masks, structure=np.ones((1, 3, 3), dtype=bool), iterations=expansion)
-        for c in range(k):
-            if masks[c].any() and not masks[c].all():  # new positions: the value of the nearest sample
-                ir, ic = ndimage.distance_transform_edt(~masks[c], return_distances=False, return_indices=True)
-                values[c] = np.where(grown[c], corrected[ir, ic], 0.0)
-    weights = grown.astype(np.float64)
-
-    # Bilinear weights along rows and columns; sample i sits at i*s + s//2.
-    i0, i1, fr = _axis_weights(labels.shape[0], s, hp)
-    j0, j1, fc = _axis_weights(labels.shape[1], s, wp)
-
-    # Where a pixel's four samples are valid and all in its own cluster, the
-    # normalised interpolation is plain bilinear interpolation of the samples
-    # (``a + f * (b - a)`` keeps a constant exactly constant); other pixels
-    # interpolate value x weight and weight of their own cluster (after
-    # expansion) and divide, in float64 (num / den of a constant must round
-    # back to that constant exactly; float32 gave 3.0000002 for 3 beside a hole).
-    below = np.minimum(np.arange(hp) + 1, hp - 1)
-    right = np.minimum(np.arange(wp) + 1, wp - 1)
-    lab_valid = np.where(valid, lab_samples, -1)
-    uniform = ((lab_valid == lab_valid[below]) & (lab_valid == lab_valid[:, right])
-               & (lab_valid == lab_valid[below][:, right]))
-    cell_label = np.where(uniform, lab_valid, -1).astype(np.int16)
-    result = np.empty(labels.shape, dtype=np.float32)
-    n_missing = _jit.interpolate_patch(np.where(valid, corrected, 0.0).astype(np.float32), cell_label, labels,
-                                       values * weights, weights, i0, i1, fr, j0, j1, fc, result)
-
-    per_cluster = None
-    if keep:
-        per_cluster = np.full((k,) + labels.shape, np.nan, dtype=np.float32)
-        for c in range(k):
-            n = np.zeros(labels.shape)
-            d = np.zeros(labels.shape)
-            for ri, wr in ((i0, 1.0 - fr), (i1, fr)):
-                for cj, wc in ((j0, 1.0 - fc), (j1, fc)):
-                    wgt = wr[:, None] * wc[None, :] * weights[c][ri[:, None], cj[None, :]]
-                    n += wgt * values[c][ri[:, None], cj[None, :]]
-                    d += wgt
-            with np.errstate(invalid="ignore", divide="ignore"):
-                per_cluster[c] = np.where(d > 0, n / d, np.nan)
-    return result, per_cluster, n_missing
-
-
-@functools.lru_cache(maxsize=64)
-def _axis_weights(n_hr: int, s: int, n_lr: int):
-    """For HR positions 0..n_hr-1: the two neighbouring samples and the weight of the second.
-
-    Cached (patches of one grid share their sizes); the arrays are read-only.
-    """
-    t = (np.arange(n_hr, dtype=np.float64) - (s // 2)) / s
-    i0 = np.clip(np.floor(t).astype(np.intp), 0, n_lr - 1)
-    i1 = np.minimum(i0 + 1, n_lr - 1)
-    frac = np.clip(t - i0, 0.0, 1.0)
-    frac[i1 == i0] = 0.0
-    for array in (i0, i1, frac):
-        array.setflags(write=False)
-    return i0, i1, frac
-
-
-@functools.lru_cache(maxsize=64)
-def _nearest_samples(n_hr: int, s: int, n_lr: int) -> np.ndarray:
-    """For HR positions 0..n_hr-1 along one axis: the index of the nearest depth sample (read-only, cached)."""
-    index = np.clip(np.floor((np.arange(n_hr) - s // 2) / s + 0.5).astype(np.intp), 0, n_lr - 1)
-    index.setflags(write=False)
-    return index
-
-
-def _spread(depth_lr: np.ndarray, s: int, shape: tuple[int, int]) -> np.ndarray:
-    """Spreading (4.4.1): depth pixel (i, j) at (i*s + s//2, j*s + s//2), NaN elsewhere."""
-    sparse = np.full(shape, np.nan, dtype=np.float32)
-    sparse[s // 2::s, s // 2::s] = depth_lr[: len(range(s // 2, shape[0], s)), : len(range(s // 2, shape[1], s))]
-    return sparse
