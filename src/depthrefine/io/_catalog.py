@@ -137,7 +137,7 @@ DATASETS: dict[str, Dataset] = {d.name: d for d in (
         "middlebury2005_park", "middlebury2005_park",
         "Middlebury 2005 (Art, Books, Dolls, Laundry, Moebius): hole-filled ground truth and the noisy x2-x16 "
         "inputs of Park et al. (ICCV 2011)",
-        ("park", "tof"),
+        ("park", "tof", "sensor"),
         "research and evaluation use only: no licence file (wliusjtu); MSG-Net's view1 images non-commercial; "
         "Ferstl's Art inputs BSD-3-Clause (RobVisLab/tofmark)",
         "https://vision.middlebury.edu/stereo/data/ (scenes); inputs as in "
