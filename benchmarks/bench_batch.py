@@ -12,7 +12,12 @@ start is not timed), the configurations taking turns (1 worker, 2 workers, 2
 workers temporal, then again), so that on a machine shared with other jobs
 each sees the same load; the figures are medians. The load average of the
 machine (``os.getloadavg``) is printed beside them: the ratio of 2 workers
-to 1 is only as good as the free cores.
+to 1 is only as good as the free cores. Two reference lines follow: one
+frame refined in the bench's own process with 1 and with 2 kernel threads
+(what a lone worker gains inside a frame from the second core, which bounds
+what a second worker can add), and one-thread processes refining frames in a
+loop without Dask, 1 alone and 2 at once (what the machine gives two
+workers at that moment).
 
 Flicker (``depthrefine.bench.metrics.flicker``: mean absolute frame-to-frame
 change on pixels whose ground truth did not change, in mm) and the mean RMSE
@@ -99,7 +104,51 @@ def speed(pairs, args) -> dict[bool, list[np.ndarray]]:
     one, two = (_frame_ms(pairs, args, threads) for threads in (1, 2))
     print(f"  one frame in this process: {one:.1f} ms with 1 kernel thread, {two:.1f} ms with 2 ({one / two:.2f}x; "
           f"what 1 worker on 2 cores gains inside a frame, the most 2 workers can gain over it is {2 * two / one:.2f}x)")
+    alone, pair = (_processes_rate(args, n) for n in (1, 2))
+    print(f"  without Dask, one-thread processes refining frames in a loop: 1 process {alone:.2f} frames/s, 2 at once "
+          f"{pair:.2f} frames/s ({pair / alone:.2f}x: what this machine gives 2 workers now)")
     return {False: outputs["2 workers"], True: outputs["2 workers --temporal"]}
+
+
+def _processes_rate(args, processes: int, seconds: float = 5.0) -> float:
+    """Frames per second of ``processes`` one-thread processes refining frames at once, in total."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    queue, start = ctx.Queue(), ctx.Event()
+    workers = [ctx.Process(target=_refine_loop, args=(args.method, args.size, args.scale, seconds, queue, start))
+               for _ in range(processes)]
+    for w in workers:
+        w.start()
+    for _ in workers:
+        queue.get()  # ready: imported, compiled, warmed up
+    start.set()
+    rate = sum(queue.get() for _ in workers)
+    for w in workers:
+        w.join()
+    return rate
+
+
+def _refine_loop(method: str, size: str, scale: int, seconds: float, queue, start) -> None:
+    import cv2
+
+    from depthrefine import _numba
+    from depthrefine.bench.synthetic import make_sequence
+    from depthrefine.methods.registry import refine
+
+    cv2.setNumThreads(1)
+    _numba.set_threads(1)
+    rows, cols = (int(v) for v in size.lower().split("x"))
+    frames = make_sequence(4, (rows, cols), scale, seed=3, color_noise_std=8.0)
+    refine(frames[0].depth_lr, frames[0].rgb_hr, method=method)
+    queue.put("ready")
+    start.wait()
+    begin, done = time.perf_counter(), 0
+    while time.perf_counter() - begin < seconds:
+        frame = frames[done % len(frames)]
+        refine(frame.depth_lr, frame.rgb_hr, method=method)
+        done += 1
+    queue.put(done / (time.perf_counter() - begin))
 
 
 def _frame_ms(pairs, args, threads: int, runs: int = 10) -> float:
