@@ -151,8 +151,8 @@ def _derive_k4a(folder: Path) -> None:
     try:
         import av
     except ImportError:
-        raise ValueError("deriving the Azure Kinect frames from recording.mkv needs PyAV: pip install av "
-                         "(or pip install depthrefine[data]).") from None
+        raise ValueError("deriving the Azure Kinect frames from recording.mkv needs PyAV, a dependency of "
+                         "depthrefine: pip install av.") from None
     packets: dict[str, bytes] = {}
     with av.open(str(folder / "recording.mkv")) as container:
         titles = {s.index: s.metadata.get("title", "") for s in container.streams}
