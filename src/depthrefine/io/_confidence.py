@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from .._lazy import cv2, tifffile
-from ._files import InputFileError, atomic_write, check_output
+from ._files import InputFileError, check_output
+from ._images import write_array
 
 __all__ = ["CONFIDENCE_SUFFIXES", "CONFIDENCE_PNG_MAX", "check_confidence_format", "confidence_to_png",
            "write_confidence", "read_confidence"]
@@ -61,17 +62,7 @@ def write_confidence(path: str | os.PathLike, confidence: np.ndarray, *, overwri
         data = confidence_to_png(confidence)
     else:
         data = np.clip(np.nan_to_num(np.asarray(confidence, dtype=np.float32), nan=0.0), 0.0, 1.0)
-
-    def _write(tmp: Path) -> None:
-        if suffix == ".npy":
-            with open(tmp, "wb") as fh:
-                np.save(fh, data, allow_pickle=False)
-        elif suffix in (".tif", ".tiff"):
-            tifffile.imwrite(tmp, data)
-        elif not cv2.imwrite(str(tmp), data):
-            raise OSError(f"OpenCV could not write {p}")
-
-    return atomic_write(p, _write, overwrite=overwrite)
+    return write_array(p, data, suffix, overwrite=overwrite)
 
 
 def read_confidence(path: str | os.PathLike) -> np.ndarray:

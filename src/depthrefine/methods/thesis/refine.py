@@ -14,7 +14,6 @@ are the manual patch rectangles, in color-image pixels.
 from __future__ import annotations
 
 import functools
-import os
 import threading
 import time
 import warnings
@@ -28,8 +27,8 @@ import numpy as np
 from ..._lazy import ndimage
 from ..._validate import as_depth, check_pixels, check_rgb, valid_range
 from ..._fill import fill_invalid_nearest
-from .params import RefineParams
-from ..scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
+from .params import ThesisParams
+from ..scale import ScaleStep, ScaleWarning, plan_scale, resize_color, resize_depth_nearest
 from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
@@ -51,10 +50,6 @@ Progress = Callable[[int, int], None]
 #: image (pixels) worth starting them for.
 _MAX_THREADS = 8
 _PARALLEL_MIN_PIXELS = 200_000
-
-
-class ScaleWarning(UserWarning):
-    """The color/depth ratio is not an integer: the thesis's scale step was applied."""
 
 
 @dataclass(frozen=True)
@@ -121,7 +116,7 @@ def refine_thesis(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     progress: Progress | None = None,
 ) -> np.ndarray:
     """Refine ``depth_lr`` to the resolution of ``rgb_hr`` with the thesis method.
@@ -134,7 +129,7 @@ def refine_thesis(
     rgb_hr : (H, W, 3) uint8, uint16 or float ndarray in [0, 1]
         Registered color image (RGB order). Gray (H, W) is repeated to three
         channels; an alpha channel is dropped.
-    params : RefineParams, optional
+    params : ThesisParams, optional
         Thesis defaults when omitted.
     progress : callable, optional
         ``progress(done, total)`` after each patch.
@@ -158,7 +153,7 @@ def refine_thesis(
     --------
     >>> depth = np.array([[10, 10, 50, 50]] * 4, np.uint8)
     >>> rgb = np.zeros((8, 8, 3), np.uint8); rgb[:, 4:] = 200
-    >>> out = refine_thesis(depth, rgb, params=RefineParams(patches=(1, 1), n_clusters=2))
+    >>> out = refine_thesis(depth, rgb, params=ThesisParams(patches=(1, 1), n_clusters=2))
     >>> out.shape, out.dtype, out[0].tolist()
     ((8, 8), dtype('float32'), [10.0, 10.0, 10.0, 10.0, 50.0, 50.0, 50.0, 50.0])
     """
@@ -169,7 +164,7 @@ def refine_thesis_stateful(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     state: Any = None,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, Any]:
@@ -205,7 +200,7 @@ def refine_with_intermediates(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     progress: Progress | None = None,
 ) -> Refinement:
     """Like :func:`refine_thesis`, but return every intermediate result too.
@@ -219,7 +214,7 @@ def refine_with_intermediates(
     --------
     >>> depth = np.full((4, 4), 30, np.uint8)
     >>> rgb = np.zeros((8, 8, 3), np.uint8)
-    >>> r = refine_with_intermediates(depth, rgb, params=RefineParams(patches=(2, 2)))
+    >>> r = refine_with_intermediates(depth, rgb, params=ThesisParams(patches=(2, 2)))
     >>> r.labels.shape, len(r.patches), r.scale.factor
     ((8, 8), 4, 2)
     """
@@ -358,7 +353,7 @@ class _Levels:
     n_bins: int
 
 
-def _levels(depth: np.ndarray, is_8bit: bool, params: RefineParams) -> _Levels:
+def _levels(depth: np.ndarray, is_8bit: bool, params: ThesisParams) -> _Levels:
     lo, hi = valid_range(depth)
     if params.level_size is not None:
         level_size = float(params.level_size)
@@ -377,11 +372,11 @@ class _Context:
     """What every patch reads (shared, never written while patches are solved)."""
 
     depth: np.ndarray          # (h, w) float32, NaN = no measurement
-    lab: np.ndarray            # (Hw, Ww, 3) float32: L*a*b* of the median-filtered color
+    color: np.ndarray          # (Hw, Ww, 3): the median-filtered color (each patch makes its own L*a*b*)
     nearest: np.ndarray        # (h, w): nearest valid depth anywhere (for patches without any)
     s: int                     # the integer scale factor
     levels: _Levels
-    params: RefineParams
+    params: ThesisParams
     keep: bool                 # also return the intermediates
     init_means: list | None = None  # per patch: the previous frame's cluster means (warm start)
     want_means: bool = False   # return each patch's cluster means (for the next frame)
@@ -403,7 +398,7 @@ class _WarmState:
     """What :func:`refine_thesis_stateful` carries from frame to frame."""
 
     patches: list
-    params: RefineParams
+    params: ThesisParams
     means: list
 
 
@@ -464,9 +459,9 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     With ``warm`` (``None`` or a previous state) also return the new state: each patch's
     k-means starts from the previous frame's means when that frame had the same patches.
     """
-    params = RefineParams() if params is None else params
-    if not isinstance(params, RefineParams):
-        raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
+    params = ThesisParams() if params is None else params
+    if not isinstance(params, ThesisParams):
+        raise TypeError(f"params must be a ThesisParams; got {type(params).__name__}.")
     depth = as_depth(depth_lr)
     rgb = check_rgb(rgb_hr)
     check_pixels(rgb.shape, name="rgb_hr")
@@ -474,14 +469,14 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     if step.resizes_color:
         warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
     levels = _levels(depth, np.asarray(depth_lr).dtype == np.uint8, params)
-    filtered, lab = _color_features(rgb, step, params)
+    filtered = _color_features(rgb, step, params)
     lr_patches, owner = _lr_patches(params, depth.shape, step)
     with _timed("nearest fill"):
         nearest = fill_invalid_nearest(depth)
     stateful = warm is not False
     previous = warm if stateful and isinstance(warm, _WarmState) and warm.patches == lr_patches \
         and warm.params == params and len(warm.means) == len(lr_patches) else None
-    ctx = _Context(depth=depth, lab=lab, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
+    ctx = _Context(depth=depth, color=filtered, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
                    init_means=None if previous is None else previous.means, want_means=stateful)
     canvas = _Canvas.empty(step.work_shape, depth.shape, params.n_clusters, keep)
     means = []
@@ -496,22 +491,24 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     return (result, _WarmState(lr_patches, params, means)) if stateful else result
 
 
-def _color_features(rgb: np.ndarray, step: ScaleStep, params: RefineParams) -> tuple[np.ndarray, np.ndarray]:
-    """4.3.1-4.3.2 on the whole work grid: the median-filtered color and its L*a*b*.
+def _color_features(rgb: np.ndarray, step: ScaleStep, params: ThesisParams) -> np.ndarray:
+    """4.3.1 on the whole work grid: the median-filtered color.
 
     The median runs on the whole image at once (at a patch border the window
-    sees the neighbouring patch, not a mirrored edge); L*a*b* is per pixel.
+    sees the neighbouring patch, not a mirrored edge). Its L*a*b* (4.3.2),
+    per pixel, is made by each patch in its own thread (:func:`_solve_patch`):
+    OpenCV's conversion gives each pixel the same value whatever the image
+    around it (checked on whole images, patches, single pixels and shuffled
+    pixels), and a whole-image pass was a step of its own between the median
+    and the patches.
     """
     with _timed("scale step"):
         rgb_work = resize_color(rgb, step)
     with _timed("median"):
-        filtered = median_rgb(rgb_work, params.median_size)
-    with _timed("lab"):
-        lab = rgb_to_lab(filtered)
-    return filtered, lab
+        return median_rgb(rgb_work, params.median_size)
 
 
-def _lr_patches(params: RefineParams, depth_shape: tuple[int, int],
+def _lr_patches(params: ThesisParams, depth_shape: tuple[int, int],
                 step: ScaleStep) -> tuple[list[tuple[int, int, int, int]], np.ndarray | None]:
     """The patches on the depth grid, and for a manual layout the map of which patch owns each pixel."""
     if params.patch_layout is not None:
@@ -526,9 +523,11 @@ def _solve_patches(ctx: _Context, lr_patches: list[tuple[int, int, int, int]]) -
     (NumPy and OpenCV release the GIL) and yielded in order, so the result
     does not depend on timing.
     """
-    workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
+    from ..._numba import threads  # the cores this process may use (depthrefine.batch gives a worker its share)
+
+    workers = min(len(lr_patches), threads(), _MAX_THREADS)
     solve = functools.partial(_solve_patch, ctx, lr_patches)
-    if workers <= 1 or ctx.lab.shape[0] * ctx.lab.shape[1] < _PARALLEL_MIN_PIXELS:
+    if workers <= 1 or ctx.color.shape[0] * ctx.color.shape[1] < _PARALLEL_MIN_PIXELS:
         for index in range(len(lr_patches)):
             yield solve(index)
         return
@@ -567,9 +566,11 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
     s, params, levels = ctx.s, ctx.params, ctx.levels
     init = None if ctx.init_means is None else ctx.init_means[index]
     # 4.3.2-4.3.3: unified L*, k-means.
+    with _timed("lab"):
+        lab = rgb_to_lab(ctx.color[r0 * s:r1 * s, c0 * s:c1 * s])
     with _timed("clustering"):
         clustered = cluster_colors(
-            ctx.lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
+            lab, n_clusters=params.n_clusters,
             iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
             white_bound=params.white_bound, max_lightness=params.max_lightness,
             lightness_weight=params.lightness_weight, return_features=ctx.keep or ctx.want_means,
@@ -676,9 +677,14 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     valid = np.isfinite(corrected)
     # Cluster c's samples in plane c of (k, hp, wp) masks; one dilation for all planes.
     masks = valid[None] & (lab_samples[None] == np.arange(k, dtype=lab_samples.dtype)[:, None, None])
-    values = np.where(masks, corrected[None], 0.0)
     grown = masks
-    if expansion > 0 and masks.any():
+    if expansion == 1:   # the default: one pass of a compiled kernel instead of a dilation and a transform per cluster
+        values = np.empty(masks.shape)
+        grown = np.empty(masks.shape, bool)
+        _jit.grow_samples(masks, corrected, values, grown)
+    else:
+        values = np.where(masks, corrected[None], 0.0)
+    if expansion > 1 and masks.any():
         grown = ndimage.binary_dilation(masks, structure=np.ones((1, 3, 3), dtype=bool), iterations=expansion)
         for c in range(k):
             if masks[c].any() and not masks[c].all():  # new positions: the value of the nearest sample
