@@ -160,10 +160,11 @@ def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
     assert status == 0, capsys.readouterr().err
     page = out / "index.html"
     text = page.read_text()
-    assert text.count('<table class="scores">') == 3  # the RMSE table, the all-metrics table, the published means
+    # the RMSE table, the all-metrics table, the published means, the confidence maps' AUSE
+    assert text.count('<table class="scores">') == 4
     assert text.count('<td class="best">') >= 4
     n_images = text.count("<img ")
-    assert n_images == 1 + 2  # the plot and one figure per scene (at x8)
+    assert n_images == 2 + 2  # the RMSE plot, the sparsification curves and one figure per scene (at x8)
     if CHROMIUM is None:
         pytest.skip("chromium is not installed (CI installs it with apt-get when it can)")
     profile = tmp_path / "chromium-profile"
@@ -174,7 +175,7 @@ def test_html_report_in_a_headless_browser(tmp_path, rng, capsys):
     dom = proc.stdout
     assert proc.returncode == 0 and "<html" in dom, proc.stderr[-2000:]
     # The browser parsed the tables and decoded every image (the page counts them on load).
-    assert dom.count('<table class="scores">') == 3
+    assert dom.count('<table class="scores">') == 4
     assert re.search(r'<td>bilinear</td><td( class="best")?>[0-9.]+</td><td( class="best")?>[0-9.]+</td>', dom)
     loaded = re.search(r'data-images-loaded="(\d+)"', dom)
     assert loaded and int(loaded.group(1)) == n_images, dom[:500]

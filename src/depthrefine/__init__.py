@@ -6,6 +6,7 @@ The main entry point is :func:`refine`::
     depth_hr = depthrefine.refine(depth_lr, rgb_hr)                 # guided back-projection ("gbp")
     depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="thesis")  # the thesis method, as specified
     depth_hr = depthrefine.refine(depth_lr, rgb_hr, method="bilinear")
+    depth_hr, confidence = depthrefine.refine_with_confidence(depth_lr, rgb_hr)  # 1 = most trusted
 
 Subpackages, one per domain (the README's "Architecture" section draws the flow):
 
@@ -44,6 +45,7 @@ _EXPORTS = {
     ".methods.thesis.params": ("ThesisParams",),
     ".methods.gbp": ("GbpParams",),
     ".methods.scale": ("ScaleWarning",),
+    ".methods.confidence": ("refine_with_confidence",),
 }
 _SUBPACKAGES = ("methods", "rig", "bench", "io", "cli", "batch", "viz", "evaluate")
 #: Old top-level names, each read with a DeprecationWarning until the next release.
@@ -60,6 +62,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _SUBPACKAGES, deprecated
 
 __all__ = [
     "refine",
+    "refine_with_confidence",
     "ThesisParams",
     "GbpParams",
     "DEFAULT_METHOD",

@@ -88,7 +88,7 @@ def _resize_color(rgb8: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 
 def pixel_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str, title: str | None = None,
                  limits: tuple[float, float] | None = None, crop: tuple[int, int, int, int] | None = None,
-                 scale: float = 1.0):
+                 scale: float = 1.0, confidence: np.ndarray | None = None):
     """A window of ``depth`` (beside the same window of ``rgb``), ``scale`` figure pixels per image pixel.
 
     Parameters
@@ -106,6 +106,9 @@ def pixel_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
         The window, in ``depth``'s pixels (default: the whole map).
     scale : float
         Figure pixels per pixel of the finer image's window (> 0); 1 is its own resolution.
+    confidence : (H, W) ndarray, optional
+        A confidence map in [0, 1] on ``depth``'s grid: the same window drawn
+        to the right of the depth, with its own colorbar (``"colorbar:confidence"``).
 
     Returns
     -------
@@ -126,7 +129,7 @@ def pixel_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    from .viz import DEPTH_COLORMAP, INVALID_COLOR, INVALID_LABEL, _extend, depth_limits, to_rgb8
+    from .viz import CONFIDENCE_COLORMAP, DEPTH_COLORMAP, INVALID_COLOR, INVALID_LABEL, _extend, depth_limits, to_rgb8
 
     if not (isinstance(scale, (int, float)) and math.isfinite(scale) and scale > 0):
         raise ValueError(f"scale must be a positive number of figure pixels per image pixel; got {scale!r}.")
@@ -154,8 +157,18 @@ def pixel_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
         panels.append((_resize_color(color, (out_w, out_h)), f"color {color.shape[1]}x{color.shape[0]} at x{zoom:.3g}"))
     valid = 100.0 * float(np.isfinite(part).mean()) if part.size else 0.0
     panels.append((painted, f"depth {w}x{h} at x{scale * ratio:.3g}, {valid:.1f}% measured"))
+    bars = [("depth", norm, cmap, f"depth ({units})" if units else "depth", _extend([part], lo, hi))]
+    if confidence is not None:
+        trusted = np.asarray(confidence, dtype=np.float32)[r0:r1, c0:c1]
+        confidence_map = colormaps[CONFIDENCE_COLORMAP]
+        shaded = _resize_depth(trusted, (out_w, out_h))
+        panels.append(((confidence_map(np.clip(np.nan_to_num(shaded), 0.0, 1.0))[..., :3] * 255 + 0.5)
+                       .astype(np.uint8), f"confidence, median {float(np.median(trusted)):.2f}"))
+        bars.append(("confidence", Normalize(vmin=0.0, vmax=1.0), confidence_map,
+                     "confidence (1 = most trusted)", "neither"))
 
-    width = _SIDE + len(panels) * out_w + (len(panels) - 1) * _GAP + _GAP + _BAR + _BAR_TEXT
+    width = (_SIDE + len(panels) * out_w + (len(panels) - 1) * _GAP + _GAP
+             + len(bars) * (_BAR + _BAR_TEXT) + (len(bars) - 1) * _GAP)
     height = _TOP + out_h + _BOTTOM
     dpi = 100
     fig = Figure(figsize=(width / dpi, height / dpi), dpi=dpi)
@@ -164,10 +177,12 @@ def pixel_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
         fig.figimage(image, xo=left, yo=_BOTTOM, origin="upper", resize=False)
         fig.text(left / width, (_BOTTOM + out_h + 4) / height, caption, fontsize=8, va="bottom", ha="left")
     bar_left = _SIDE + len(panels) * (out_w + _GAP)
-    cax = fig.add_axes((bar_left / width, _BOTTOM / height, _BAR / width, out_h / height), label="colorbar:depth")
-    bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), cax=cax, extend=_extend([part], lo, hi))
-    bar.set_label(f"depth ({units})" if units else "depth", fontsize=8)
-    bar.ax.tick_params(labelsize=7)
+    for kind, bar_norm, bar_cmap, label, extend in bars:
+        cax = fig.add_axes((bar_left / width, _BOTTOM / height, _BAR / width, out_h / height), label=f"colorbar:{kind}")
+        bar = fig.colorbar(ScalarMappable(norm=bar_norm, cmap=bar_cmap), cax=cax, extend=extend)
+        bar.set_label(label, fontsize=8)
+        bar.ax.tick_params(labelsize=7)
+        bar_left += _BAR + _BAR_TEXT + _GAP
     if not np.isfinite(part).all():
         swatch = Patch(facecolor=tuple(c / 255.0 for c in INVALID_COLOR), edgecolor="black", linewidth=0.5,
                        label=INVALID_LABEL)

@@ -31,6 +31,7 @@ from ._lazy import cv2, numpy as np
 __all__ = [
     "DEPTH_COLORMAP",
     "ERROR_COLORMAP",
+    "CONFIDENCE_COLORMAP",
     "INVALID_COLOR",
     "INVALID_LABEL",
     "PANEL_KINDS",
@@ -54,8 +55,10 @@ ERROR_COLORMAP = "magma"
 INVALID_COLOR = (128, 128, 128)
 #: The legend entry naming :data:`INVALID_COLOR`.
 INVALID_LABEL = "gray: no measurement"
+#: Colormap of confidence maps (0..1; perceptually uniform, distinct from depth's and error's).
+CONFIDENCE_COLORMAP = "cividis"
 #: What a :class:`Panel` can show.
-PANEL_KINDS = ("color", "depth", "error", "samples", "blend")
+PANEL_KINDS = ("color", "depth", "error", "samples", "blend", "confidence")
 #: Kinds drawn with the depth colormap and range.
 _DEPTH_KINDS = ("depth", "samples", "blend")
 _CV2_COLORMAPS = {"viridis": "COLORMAP_VIRIDIS", "magma": "COLORMAP_MAGMA"}  # names in cv2
@@ -73,7 +76,8 @@ class Panel:
         ``color``: (H, W, 3) color image; ``depth`` / ``error``: (H, W)
         values, NaN = no measurement; ``samples``: (H, W) sparse depth (NaN
         between samples) drawn as dots over ``background`` dimmed;
-        ``blend``: (H, W) depth drawn half-transparent over ``background``.
+        ``blend``: (H, W) depth drawn half-transparent over ``background``;
+        ``confidence``: (H, W) values in [0, 1] (1 = most trusted), with their own colorbar.
     kind : str
         One of :data:`PANEL_KINDS`.
     detail : bool
@@ -315,6 +319,7 @@ def figure_grid(
                  dpi=dpi, layout="constrained")
     axes = fig.subplots(len(grid), ncols, squeeze=False, gridspec_kw={"height_ratios": heights})
     depth_axes, error_axes, depth_image, error_image = [], [], None, None
+    confidence_axes, confidence_image = [], None
     for i, row in enumerate(grid):
         for j in range(ncols):
             ax = axes[i, j]
@@ -341,6 +346,10 @@ def figure_grid(
                                norm=error_norm, interpolation=nearest)
                 error_axes.append(ax)
                 error_image = error_image or im
+            elif panel.kind == "confidence":
+                confidence_image = ax.imshow(image, cmap=CONFIDENCE_COLORMAP, vmin=0.0, vmax=1.0,
+                                             interpolation=nearest)
+                confidence_axes.append(ax)
             else:
                 if panel.kind == "depth":
                     cmap, alpha = _colormap(DEPTH_COLORMAP, invalid=INVALID_COLOR), None
@@ -359,7 +368,8 @@ def figure_grid(
                                        path_effects=[withStroke(linewidth=2.2, foreground="black")]))
             ax.set_title(panel.title, fontsize=8.5)
     # One kind: its bar on the right; depth and error side by side: each bar above its panels.
-    where = dict(location="top", shrink=0.6, aspect=40, pad=0.01) if depth_axes and error_axes else \
+    several = sum(bool(a) for a in (depth_axes, error_axes, confidence_axes)) > 1
+    where = dict(location="top", shrink=0.6, aspect=40, pad=0.01) if several else \
         dict(location="right", shrink=0.8, aspect=30, pad=0.02)
     if depth_image is not None:
         cbar = fig.colorbar(depth_image, ax=depth_axes, **where,
@@ -371,6 +381,10 @@ def figure_grid(
                             extend=_extend(errors, 0.0, float(error_max)))
         cbar.set_label(f"|error| ({units})" if units else "|error|", fontsize=9)
         cbar.ax.set_label("colorbar:error")
+    if confidence_image is not None:
+        cbar = fig.colorbar(confidence_image, ax=confidence_axes, **where)
+        cbar.set_label("confidence (1 = most trusted, 0 = no depth)", fontsize=9)
+        cbar.ax.set_label("colorbar:confidence")
     if any(p.kind in ("depth", "error") for p in cells):  # the kinds that draw missing pixels gray
         swatch = Patch(facecolor=tuple(c / 255.0 for c in INVALID_COLOR), edgecolor="black", linewidth=0.5,
                        label=INVALID_LABEL)
@@ -427,7 +441,7 @@ def comparison_figure(
 
 def depth_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str, title: str | None = None,
                  limits: tuple[float, float] | None = None, crop: tuple[int, int, int, int] | None = None,
-                 scale: float | None = None):
+                 scale: float | None = None, confidence: np.ndarray | None = None):
     """One depth map with its colorbar, beside its color image when given (``show``, ``--preview``).
 
     Parameters
@@ -449,6 +463,9 @@ def depth_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
         whole scale, at most 16, that makes the window about 800 pixels wide); without
         either, the whole map is fitted into a figure about 460 pixels wide
         per panel.
+    confidence : (H, W) ndarray, optional
+        A confidence map in [0, 1] on ``depth``'s grid, shown to the right
+        with its own colorbar (the same window with ``crop``).
 
     Returns
     -------
@@ -461,12 +478,16 @@ def depth_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
             _, _, w, _ = check_crop(crop, np.shape(depth)[:2])
             finest = max(w, round(w * rgb.shape[1] / np.shape(depth)[1])) if rgb is not None else w
             scale = float(max(1, min(16, 800 // max(finest, 1))))
-        return pixel_figure(depth, rgb, units=units, title=title, limits=limits, crop=crop, scale=scale)
+        return pixel_figure(depth, rgb, units=units, title=title, limits=limits, crop=crop, scale=scale,
+                            confidence=confidence)
     depth = np.asarray(depth, dtype=np.float32)
     valid = int(np.isfinite(depth).sum())
     caption = f"depth {depth.shape[1]}x{depth.shape[0]}, {100.0 * valid / max(depth.size, 1):.1f}% measured"
     row = ([Panel(f"color {rgb.shape[1]}x{rgb.shape[0]}", rgb, "color")] if rgb is not None else [])
     row.append(Panel(caption, depth, "depth"))
+    if confidence is not None:
+        confidence = np.asarray(confidence, dtype=np.float32)
+        row.append(Panel(f"confidence, median {float(np.median(confidence)):.2f}", confidence, "confidence"))
     return figure_grid([row], units=units, limits=limits, title=title, panel_width=4.2)
 
 

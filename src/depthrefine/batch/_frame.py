@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import as_depth
+from ..methods.confidence import apply_min_confidence, confidence_of, confidence_on_grid, method_with_confidence
 from ..methods.registry import Method, check_call
 
 __all__ = ["FramePlan", "FrameOutput", "solve_frame"]
@@ -49,6 +50,13 @@ class FramePlan:
         Point cloud: every ``stride``-th row and column.
     preview : bool
         Return the color image and the (aligned) input depth, for a preview video.
+    confidence : bool
+        Return the confidence map of the refined depth
+        (:func:`depthrefine.refine_with_confidence`; with a warm start,
+        :func:`depthrefine.methods.confidence.confidence_of`), 0 where there is no depth.
+    min_confidence : float, optional
+        NaN (no measurement) in the depth where the confidence is below it
+        (needs ``confidence``).
     """
 
     method: Method
@@ -60,10 +68,14 @@ class FramePlan:
     points: bool = False
     stride: int = 1
     preview: bool = False
+    confidence: bool = False
+    min_confidence: float | None = None
 
     def __post_init__(self) -> None:
         if self.points and self.rig is None:
             raise ValueError("a point cloud needs the rig's color camera: give the rig.")
+        if self.min_confidence is not None and not self.confidence:
+            raise ValueError("min_confidence needs the confidence map: set confidence=True.")
 
 
 @dataclass(eq=False)
@@ -82,6 +94,8 @@ class FrameOutput:
         The point cloud (``plan.points``), as :func:`depthrefine.rig.pointcloud.depth_to_points`.
     notes : tuple of str
         What the chain did (with a rig), one line each.
+    confidence : (H, W) float32 ndarray or None
+        The confidence map in [0, 1] on ``depth_hr``'s grid (``plan.confidence``).
     """
 
     depth_hr: np.ndarray
@@ -90,6 +104,7 @@ class FrameOutput:
     points: np.ndarray | None = None
     colors: np.ndarray | None = None
     notes: tuple[str, ...] = field(default=())
+    confidence: np.ndarray | None = None
 
 
 def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any = None, *,
@@ -119,12 +134,18 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
         depth, rgb, camera, notes = pair.depth_lr, pair.rgb_hr, pair.camera, pair.notes
     check_call(plan.method, depth, rgb, plan.params)
     states = [state]
+    confidences: list[np.ndarray | None] = [None]
 
     def solve(depth_in: np.ndarray, rgb_in: np.ndarray) -> np.ndarray:
         if stateful:
             out, states[0] = plan.method.refine_stateful(depth_in, rgb_in, params=plan.params, state=states[0])
+            if plan.confidence:
+                confidences[0] = confidence_of(plan.method, depth_in, rgb_in, out, params=plan.params)
             return out
         states[0] = None
+        if plan.confidence:
+            out, confidences[0] = method_with_confidence(plan.method, depth_in, rgb_in, params=plan.params)
+            return out
         return plan.method.func(depth_in, rgb_in, params=plan.params, progress=None)
 
     if plan.rig is not None:   # as run does: the method upsamples the aligned grid onto the color image
@@ -138,7 +159,11 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
         from ..rig.chain import keep_unmeasured
 
         depth_hr = keep_unmeasured(depth_hr, depth, fill_enclosed=plan.fill_holes)
-    out = FrameOutput(depth_hr, notes=notes)
+    confidence = None
+    if plan.confidence:
+        confidence = confidence_on_grid(confidences[0], depth_hr)
+        depth_hr, confidence = apply_min_confidence(depth_hr, confidence, plan.min_confidence)
+    out = FrameOutput(depth_hr, notes=notes, confidence=confidence)
     if plan.color or plan.preview:
         out.rgb_hr = rgb
     if plan.preview:

@@ -38,8 +38,11 @@ _RANGE_FRAMES = 8
 DEFAULT_FPS = 30.0
 #: Settings that must match for a run to resume in a folder (see :meth:`BatchJob.settings`).
 _SETTING_KEYS = ("input", "method", "params", "temporal", "chunk", "max_dt", "saturated_invalid", "rig", "align",
-                 "fill_holes", "output_scale", "output_dtype", "save_color", "ply", "ply_stride")
+                 "fill_holes", "output_scale", "output_dtype", "save_color", "ply", "ply_stride", "confidence",
+                 "min_confidence")
 _OUTPUT_DTYPES = ("uint8", "uint16", "float32")
+#: The file types of OUTDIR/confidence/<stem>.<ext> (as ``batch --confidence FORMAT``).
+CONFIDENCE_FORMATS = ("tif", "npy", "png")
 
 
 @dataclass(frozen=True)
@@ -74,6 +77,14 @@ class BatchOptions:
     ply, ply_stride
         Also write a colored point cloud ``OUTDIR/ply/<stem>.ply`` (needs a
         rig and the depth's units), every ``ply_stride``-th row and column.
+    confidence : str, optional
+        Also write each frame's confidence map (0..1, 1 = most trusted, 0 =
+        no depth; :func:`depthrefine.refine_with_confidence`) as
+        ``OUTDIR/confidence/<stem>.<confidence>``: ``"tif"`` or ``"npy"``
+        (float32) or ``"png"`` (16-bit, confidence x 65535).
+    min_confidence : float, optional
+        Write 0 (no measurement) in the depth where the confidence is below
+        it (0..1); the confidence map has 0 there too.
     video, fps
         Also write a preview video (color | input | refined) at ``fps``
         frames per second (default: the recording's rate, else 30).
@@ -101,6 +112,8 @@ class BatchOptions:
     save_color: bool = False
     ply: bool = False
     ply_stride: int = 1
+    confidence: str | None = None
+    min_confidence: float | None = None
     video: str | os.PathLike | None = None
     fps: float | None = None
     frames_per_task: int | None = None
@@ -119,6 +132,12 @@ class BatchOptions:
             raise ValueError(f"the point cloud stride must be a whole number >= 1; got {self.ply_stride!r}.")
         if self.output_dtype is not None and self.output_dtype not in _OUTPUT_DTYPES:
             raise ValueError(f"output_dtype must be one of {', '.join(_OUTPUT_DTYPES)}; got {self.output_dtype!r}.")
+        if self.confidence is not None and self.confidence not in CONFIDENCE_FORMATS:
+            raise ValueError(f"confidence must be one of {', '.join(CONFIDENCE_FORMATS)} (the file type of "
+                             f"OUTDIR/confidence/<stem>.<ext>); got {self.confidence!r}.")
+        if self.min_confidence is not None and not (isinstance(self.min_confidence, (int, float))
+                                                    and 0.0 <= self.min_confidence <= 1.0):
+            raise ValueError(f"min_confidence must be a number between 0 and 1; got {self.min_confidence!r}.")
         for name in ("output_scale", "fps"):
             value = getattr(self, name)
             if value is not None and not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
@@ -242,7 +261,9 @@ class BatchJob:
                                  "--inverse-depth-scale C.")
         self.plan = FramePlan(self.method, options.params, rig=rig, align=align, fill_holes=options.fill_holes,
                               color=options.save_color, points=options.ply, stride=options.ply_stride,
-                              preview=options.video is not None)
+                              preview=options.video is not None,
+                              confidence=options.confidence is not None or options.min_confidence is not None,
+                              min_confidence=options.min_confidence)
         self._rig_source = rig_source
         self.video_path = None
         self.outputs = {f.key: self._frame_outputs(f) for f in sequence.frames}
@@ -288,6 +309,8 @@ class BatchJob:
             files["color"] = self.outdir / "color" / f"{frame.key}.png"
         if self.options.ply:
             files["ply"] = self.outdir / "ply" / f"{frame.key}.ply"
+        if self.options.confidence:
+            files["confidence"] = self.outdir / "confidence" / f"{frame.key}.{self.options.confidence}"
         return files
 
     def settings(self) -> dict[str, Any]:
@@ -306,11 +329,13 @@ class BatchJob:
             out["rig"] = {"source": self._rig_source, **self.plan.rig.to_dict()}
             out["align"] = {k: v for k, v in self.plan.align.to_dict().items() if v is not None}
             out["fill_holes"] = bool(o.fill_holes)
-        for name in ("output_scale", "output_dtype", "save_color", "ply"):
+        for name in ("output_scale", "output_dtype", "save_color", "ply", "confidence"):
             if getattr(o, name):
                 out[name] = getattr(o, name)
         if o.ply:
             out["ply_stride"] = o.ply_stride
+        if o.min_confidence is not None:
+            out["min_confidence"] = o.min_confidence
         return out
 
     def _check_outdir(self) -> None:

@@ -16,6 +16,7 @@ on two cores then run one kernel thread each instead of two each.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 import threading
 import time
@@ -91,6 +92,7 @@ def refine_many(
     temporal: bool = False,
     chunk: int = DEFAULT_CHUNK,
     workers: int | None = None,
+    confidence: bool = False,
 ) -> Iterator[tuple[Hashable, np.ndarray]]:
     """Refine many depth + color pairs on Dask; yield ``(key, depth_hr)`` in input order.
 
@@ -110,6 +112,10 @@ def refine_many(
     temporal : bool
         Warm-start each frame from the previous one within chunks of
         ``chunk`` frames (see :mod:`depthrefine.batch`).
+    confidence : bool
+        Also make each frame's confidence map and yield ``(key, depth_hr,
+        confidence)`` (:func:`depthrefine.refine_with_confidence`; with
+        ``temporal``, :func:`depthrefine.methods.confidence.confidence_of`).
 
     Raises
     ------
@@ -130,7 +136,7 @@ def refine_many(
     ...     [(k, float(d[0, 0])) for k, d in refine_many(frames, method="bilinear", client=client)]
     [(0, 100.0), (1, 101.0), (2, 102.0)]
     """
-    plan = FramePlan(get_method(method), params)
+    plan = FramePlan(get_method(method), params, confidence=confidence)
     items = pairs.items() if isinstance(pairs, Mapping) else ((k, (d, c)) for k, d, c in pairs)
     tasks = ((key, _constant(value)) for key, value in items)
     with contextlib.ExitStack() as stack:
@@ -140,7 +146,7 @@ def refine_many(
             if result.error is not None:
                 kind = ValueError if result.bad_input else RuntimeError
                 raise kind(f"frame {result.key!r}: {result.error}")
-            yield result.key, result.depth_hr
+            yield (result.key, result.depth_hr, result.output.confidence) if confidence else (result.key, result.depth_hr)
 
 
 def _constant(value: tuple[np.ndarray, np.ndarray]) -> Loader:
@@ -481,13 +487,16 @@ def _one_line(exc: BaseException) -> str:
 def _solve_chunk(plan: FramePlan, temporal: bool, items: list, share: Mapping[str, int]) -> list[tuple]:
     """On a worker: solve a chunk's frames in order (warm-starting them with ``temporal``)."""
     stateful = temporal and plan.method.refine_stateful is not None
+    # A frame run only to warm-start the next needs no confidence map.
+    unconfident = dataclasses.replace(plan, confidence=False, min_confidence=None)
     state = None
     rows = []
     with _kernel_threads(_worker_share(share)):
         for order, key, depth, rgb, is_wanted in items:
             start = time.perf_counter()
             try:
-                output, state = solve_frame(plan, depth, rgb, state, stateful=stateful)
+                frame_plan = plan if is_wanted or not plan.confidence else unconfident
+                output, state = solve_frame(frame_plan, depth, rgb, state, stateful=stateful)
             except (ValueError, TypeError, MemoryError) as exc:
                 rows.append((order, key, None, time.perf_counter() - start, _one_line(exc), True))
                 continue

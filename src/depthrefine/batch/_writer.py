@@ -51,7 +51,7 @@ class BatchWriter:
         """Create the folders, remove what a killed run left half-written, write the first record."""
         job, seq = self.job, self.job.sequence
         self.outdir.mkdir(exist_ok=True)
-        for kind in ("color", "ply"):
+        for kind in ("color", "ply", "confidence"):
             if any(kind in files for files in job.outputs.values()):
                 (self.outdir / kind).mkdir(exist_ok=True)
         _remove_leftovers([p for files in job.outputs.values() for p in files.values()]
@@ -63,7 +63,7 @@ class BatchWriter:
             if frame.stamp_ns is not None:
                 row["stamp_ns"] = int(frame.stamp_ns)
             row["output"] = files["depth"].name
-            for kind in ("color", "ply"):
+            for kind in ("color", "ply", "confidence"):
                 if kind in files:
                     row[f"{kind}_output"] = f"{kind}/{files[kind].name}"
             if frame.key in job.done_before:
@@ -138,7 +138,7 @@ class BatchWriter:
 
     def _write_frame(self, key: str, output: Any) -> None:
         """All of a frame's files, or none (the files written are removed if a later one fails)."""
-        from ..io import write_depth, write_ply, write_rgb
+        from ..io import write_confidence, write_depth, write_ply, write_rgb
         from ..viz import to_rgb8
 
         files = self.job.outputs[key]
@@ -152,6 +152,8 @@ class BatchWriter:
                 written.append(write_ply(files["ply"], output.points, output.colors, overwrite=True,
                                          comments=(f"depthrefine batch frame {key}",
                                                    "metres, color camera frame: X right, Y down, Z forward")))
+            if "confidence" in files:
+                written.append(write_confidence(files["confidence"], output.confidence, overwrite=True))
             written.append(write_depth(files["depth"], depth, dtype=dtype, overwrite=True))
             self._wrote.add(key)
         except BaseException:

@@ -11,11 +11,17 @@ The bad-pixel thresholds and the edge threshold are in *levels*; ``level`` is
 the size of one level in depth units (1 for the 8-bit maps of every benchmark
 protocol, so "bad > 1" means "off by more than one disparity level").
 
+A confidence map is scored by its sparsification curve (:func:`sparsification`):
+the RMSE of the pixels left after removing the least confident fraction, beside
+the oracle curve that removes by true error; AUSE is the area between them.
+
 References
 ----------
 Errors as reported for guided depth upsampling: RMSE and MAE (Park et al.,
 ICCV 2011; Ferstl et al., ICCV 2013), bad-pixel percentages (Scharstein and
-Szeliski, IJCV 2002).
+Szeliski, IJCV 2002). Sparsification curves and AUSE: E. Ilg et al.,
+"Uncertainty estimates and multi-hypotheses networks for optical flow", ECCV
+2018.
 """
 
 from __future__ import annotations
@@ -37,6 +43,11 @@ __all__ = [
     "mae",
     "bad_pixel_share",
     "flicker",
+    "Sparsification",
+    "sparsification",
+    "sparsification_curve",
+    "ause",
+    "SPARSIFICATION_STEPS",
     "EDGE_THRESHOLD_LEVELS",
     "EDGE_RADIUS",
 ]
@@ -337,3 +348,176 @@ def score(
         n_pixels=n,
         n_edge=int(err_edge.size),
     )
+
+
+# ---------------------------------------------------------------- confidence
+
+#: The sparsification curve removes 0, 1, ..., 99 % of the scored pixels.
+SPARSIFICATION_STEPS = 100
+
+
+@dataclass(frozen=True, eq=False)
+class Sparsification:
+    """How well a confidence map ranks the errors of a depth map (:func:`sparsification`).
+
+    Attributes
+    ----------
+    fractions : (S,) float64 ndarray
+        Shares of the scored pixels removed: 0, 0.01, ..., 0.99.
+    curve : (S,) float64 ndarray
+        RMSE of the pixels left after removing the least confident ``fractions``.
+    oracle : (S,) float64 ndarray
+        The same, removing the pixels of largest true error first (the best any
+        confidence can do).
+    ause : float
+        Area between ``curve`` and ``oracle`` over ``fractions`` (depth units;
+        0 for a perfect ranking).
+    rmse : float
+        RMSE of all scored pixels (``curve[0]``).
+    confident_rmse, doubtful_rmse : float
+        RMSE of the more and of the less confident half of the scored pixels.
+    n_pixels : int
+        Number of scored pixels.
+    """
+
+    fractions: np.ndarray
+    curve: np.ndarray
+    oracle: np.ndarray
+    ause: float
+    rmse: float
+    confident_rmse: float
+    doubtful_rmse: float
+    n_pixels: int
+
+    @property
+    def relative_ause(self) -> float:
+        """``ause / rmse``: comparable across scenes and units."""
+        return self.ause / self.rmse if self.rmse > 0 else float("nan")
+
+    @property
+    def half_ratio(self) -> float:
+        """``confident_rmse / doubtful_rmse``: below 1 when confidence means lower error."""
+        return self.confident_rmse / self.doubtful_rmse if self.doubtful_rmse > 0 else float("nan")
+
+
+def _removed_squares(squares: np.ndarray, order_key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Knots ``(k, S(k))`` of the sum of squares ``S`` of the ``k`` pixels of lowest ``order_key``.
+
+    Pixels of equal key are removed as one group, evenly (``S`` is linear
+    within a group): a tie is not broken in anyone's favour.
+    """
+    order = np.argsort(order_key, kind="stable")
+    key = order_key[order]
+    sums = np.concatenate(([0.0], np.cumsum(squares[order], dtype=np.float64)))
+    knots = np.concatenate(([0], np.flatnonzero(key[1:] != key[:-1]) + 1, [key.size]))
+    return knots.astype(np.float64), sums[knots]
+
+
+def sparsification_curve(errors: np.ndarray, confidence: np.ndarray, fractions: np.ndarray) -> np.ndarray:
+    """RMSE of ``errors`` left after removing the least confident ``fractions`` of them (ties removed evenly).
+
+    Parameters
+    ----------
+    errors, confidence : (N,) ndarray
+        One value per scored pixel; higher confidence means more trusted.
+    fractions : (S,) ndarray
+        Shares in [0, 1) to remove.
+
+    Examples
+    --------
+    >>> sparsification_curve(np.array([3.0, 0.0, 4.0, 0.0]), np.array([0.1, 0.9, 0.2, 0.8]), np.array([0, 0.5]))
+    array([2.5, 0. ])
+    """
+    squares = np.square(np.asarray(errors, dtype=np.float64))
+    knots, sums = _removed_squares(squares, np.asarray(confidence, dtype=np.float64))
+    n = squares.size
+    removed = np.asarray(fractions, dtype=np.float64) * n
+    left = np.maximum(sums[-1] - np.interp(removed, knots, sums), 0.0)
+    return np.sqrt(left / np.maximum(n - removed, 1e-12))
+
+
+def sparsification(
+    depth_pred: np.ndarray,
+    depth_gt: np.ndarray,
+    confidence: np.ndarray,
+    *,
+    valid: np.ndarray | None = None,
+    border: int = 0,
+    steps: int = SPARSIFICATION_STEPS,
+) -> Sparsification:
+    """The sparsification curve of ``confidence`` on the errors of ``depth_pred``, its oracle and AUSE.
+
+    The scored pixels are those of :func:`score` (valid ground truth, inside
+    ``valid`` and the border, finite prediction). The curve is the RMSE
+    after removing the least confident share of them, at ``steps`` shares
+    from 0 to ``1 - 1/steps``; the oracle removes the largest errors first;
+    AUSE is the area between the two (trapezoid rule). Pixels of equal
+    confidence are removed together, evenly, so a constant confidence gives
+    a flat curve. A non-finite confidence counts as 0.
+
+    Parameters
+    ----------
+    depth_pred, depth_gt : (H, W) ndarray
+        As for :func:`score`.
+    confidence : (H, W) ndarray
+        Higher = more trusted (any monotone scale: only the order counts).
+    valid : (H, W) bool ndarray, optional
+    border : int
+    steps : int
+
+    Returns
+    -------
+    Sparsification
+        NaN figures when no pixel is scored.
+
+    Examples
+    --------
+    >>> gt = np.ones((1, 4)); pred = np.array([[1.0, 2.0, 3.0, 5.0]])
+    >>> s = sparsification(pred, gt, -np.abs(pred - gt))   # a perfect ranking
+    >>> round(s.ause, 12), s.confident_rmse, s.doubtful_rmse
+    (0.0, 0.7071067811865476, 3.1622776601683795)
+    """
+    pred, gt, mask = _check_pair(depth_pred, depth_gt, valid)
+    conf = np.asarray(confidence, dtype=np.float64)
+    if conf.shape != gt.shape:
+        raise ValueError(f"confidence has shape {conf.shape} but depth_gt has shape {gt.shape}; give one "
+                         "confidence per pixel of the prediction.")
+    if int(steps) < 2:
+        raise ValueError(f"steps must be >= 2; got {steps}.")
+    if border:
+        mask &= valid_mask(gt, border=border)
+    scored = mask & np.isfinite(pred)
+    err = np.abs(pred[scored] - gt[scored])
+    fractions = np.arange(int(steps)) / float(steps)
+    n = int(err.size)
+    if n == 0:
+        nan = np.full(fractions.shape, np.nan)
+        return Sparsification(fractions, nan, nan, float("nan"), float("nan"), float("nan"), float("nan"), 0)
+    c = conf[scored]
+    c = np.where(np.isfinite(c), c, 0.0)
+    curve = sparsification_curve(err, c, fractions)
+    oracle = sparsification_curve(err, -err, fractions)
+    squares = err * err
+    knots, sums = _removed_squares(squares, c)
+    doubtful = float(np.interp(n / 2.0, knots, sums))
+    return Sparsification(
+        fractions=fractions, curve=curve, oracle=oracle,
+        ause=float(np.trapezoid(curve - oracle, fractions)),
+        rmse=float(curve[0]),
+        confident_rmse=float(np.sqrt(max(sums[-1] - doubtful, 0.0) / (n / 2.0))),
+        doubtful_rmse=float(np.sqrt(doubtful / (n / 2.0))),
+        n_pixels=n,
+    )
+
+
+def ause(depth_pred: np.ndarray, depth_gt: np.ndarray, confidence: np.ndarray, *,
+         valid: np.ndarray | None = None, border: int = 0) -> float:
+    """Area between the sparsification curve of ``confidence`` and its oracle (:func:`sparsification`).
+
+    Examples
+    --------
+    >>> gt = np.ones((1, 4)); pred = np.array([[1.0, 2.0, 3.0, 5.0]])
+    >>> ause(pred, gt, np.ones((1, 4))) > ause(pred, gt, -pred) == 0.0
+    True
+    """
+    return sparsification(depth_pred, depth_gt, confidence, valid=valid, border=border).ause

@@ -315,7 +315,7 @@ def csv_text(rows: Sequence[BenchRow]) -> str:
     --------
     >>> row = BenchRow("park", "art", 4, "bilinear", "test", 2.0, 1.0, 4.0, 0.5, 0.1, 1.0, 0.01, 1.5)
     >>> csv_text([row]).splitlines()[1]
-    'park,art,4,bilinear,test,2,1,4,0.5,0.1,1,0.01,1.5'
+    'park,art,4,bilinear,test,2,1,4,0.5,0.1,1,0.01,1.5,nan,nan,nan,nan'
     """
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
@@ -420,6 +420,7 @@ def summary_markdown(
     notes: Sequence[str] = (),
     figures: Sequence[tuple[str, str]] = (),
     plot: str | None = None,
+    confidence_plot: str | None = None,
 ) -> str:
     """The Markdown summary: tables, published numbers, parameters, notes and figure links.
 
@@ -433,7 +434,11 @@ def summary_markdown(
     figures : sequence of (caption, file name)
     plot : str, optional
         File name of the RMSE-vs-scale plot.
+    confidence_plot : str, optional
+        File name of the sparsification curves (:mod:`.confidence_report`).
     """
+    from .confidence_report import confidence_markdown
+
     out = ["# depthrefine benchmark", ""]
     n_cases = len({(r.protocol, r.scene, r.scale) for r in rows})
     out.append(f"{len(rows)} runs: {len(_methods_in_order(rows))} methods on {n_cases} cases "
@@ -457,6 +462,7 @@ def summary_markdown(
         out.append(_markdown_table(t))
     for t in published_table(rows):
         out.append(_markdown_table(t))
+    out += confidence_markdown(rows, plot=confidence_plot)
     if params_used:
         out.append("## Parameters")
         out.append("")
@@ -524,12 +530,15 @@ def html_page(
     plot: str | None = None,
     csv_name: str = "scores.csv",
     markdown_name: str = "summary.md",
+    confidence_plot: str | None = None,
 ) -> str:
     """One self-contained HTML page (images by relative file name) showing the whole report.
 
     After loading, ``<body data-images-loaded="N">`` holds the number of
     images that decoded, so a headless browser can check them.
     """
+    from .confidence_report import confidence_html
+
     parts = [
         "<!DOCTYPE html>",
         '<html lang="en"><head><meta charset="utf-8"><title>depthrefine benchmark</title>',
@@ -558,6 +567,7 @@ def html_page(
     parts.append('<h2 id="results">Results</h2>')
     parts += [_html_table(t) for t in summary_tables(rows)]
     parts += [_html_table(t) for t in published_table(rows)]
+    parts += confidence_html(rows, plot=confidence_plot)
     if params_used:
         parts.append("<h2>Parameters</h2><ul>")
         for method, fields in params_used.items():

@@ -20,7 +20,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from ..methods.registry import get_method
-from .metrics import score
+from .metrics import Sparsification, score, sparsification
 
 __all__ = [
     "DEFAULT_SCALES",
@@ -80,7 +80,15 @@ class BenchCase:
 
 @dataclass(frozen=True)
 class BenchRow:
-    """The scores and the time of one method on one case (one CSV row)."""
+    """The scores and the time of one method on one case (one CSV row).
+
+    With ``run_benchmark(..., confidence=True)`` the last four fields score
+    the method's confidence map (:func:`depthrefine.refine_with_confidence`)
+    by :func:`~depthrefine.bench.metrics.sparsification`: ``ause`` and,
+    for the same output, ``ause_baseline`` of the steepness baseline
+    (:func:`~depthrefine.methods.confidence.steepness_confidence`), and the
+    RMSE of the more and the less confident half; NaN without it.
+    """
 
     protocol: str
     scene: str
@@ -95,6 +103,10 @@ class BenchRow:
     coverage: float
     seconds: float
     megapixels: float
+    ause: float = math.nan
+    ause_baseline: float = math.nan
+    confident_rmse: float = math.nan
+    doubtful_rmse: float = math.nan
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -109,10 +121,14 @@ class BenchResult:
     """Rows of a run, and the predictions it was asked to keep.
 
     ``kept[(protocol, scene, scale)][method]`` is the (H, W) float32 result.
+    ``curves[(protocol, scene, scale, method)]`` holds, with
+    ``confidence=True``, the :class:`~depthrefine.bench.metrics.Sparsification`
+    of the method's confidence map and of the steepness baseline.
     """
 
     rows: list[BenchRow] = field(default_factory=list)
     kept: dict[tuple[str, str, int], dict[str, np.ndarray]] = field(default_factory=dict)
+    curves: dict[tuple[str, str, int, str], tuple[Sparsification, Sparsification]] = field(default_factory=dict)
 
 
 def parse_scales(text: str) -> tuple[int, ...]:
@@ -143,6 +159,7 @@ def run_benchmark(
     keep: Callable[[BenchCase], bool] | None = None,
     progress: Callable[[int, int], None] | None = None,
     clock: Callable[[], float] = time.perf_counter,
+    confidence: bool = False,
 ) -> BenchResult:
     """Run every method on every case and score it.
 
@@ -159,6 +176,10 @@ def run_benchmark(
         ``progress(done, total)`` after each (method, case).
     clock : callable
         Seconds, for timing each call.
+    confidence : bool
+        Also score each method's confidence map and the steepness baseline
+        on its output (untimed; a method with its own map runs again, and its
+        depth must come out bit-identical).
 
     Returns
     -------
@@ -194,10 +215,16 @@ def run_benchmark(
                     f"expected the ground truth's {case.depth_gt.shape}."
                 )
             s = score(depth_hr, case.depth_gt, border=case.border)
+            sparse: dict[str, float] = {}
+            if confidence:
+                mine, base = _confidence_curves(entry, case, depth_hr, params.get(entry.name))
+                result.curves[case.key + (entry.name,)] = (mine, base)
+                sparse = dict(ause=mine.ause, ause_baseline=base.ause, confident_rmse=mine.confident_rmse,
+                              doubtful_rmse=mine.doubtful_rmse)
             result.rows.append(BenchRow(
                 protocol=case.protocol, scene=case.scene, scale=case.scale, method=entry.name,
                 split=case.split, rmse=s.rmse, mae=s.mae, edge_rmse=s.edge_rmse, bad_1=s.bad_1,
-                bad_3=s.bad_3, coverage=s.coverage, seconds=float(seconds), megapixels=megapixels,
+                bad_3=s.bad_3, coverage=s.coverage, seconds=float(seconds), megapixels=megapixels, **sparse,
             ))
             if keep is not None and keep(case):
                 result.kept.setdefault(case.key, {})[entry.name] = depth_hr
@@ -205,6 +232,22 @@ def run_benchmark(
             if progress is not None:
                 progress(done, total)
     return result
+
+
+def _confidence_curves(entry, case: BenchCase, depth_hr: np.ndarray, params: Any
+                       ) -> tuple[Sparsification, Sparsification]:
+    """The sparsification of ``entry``'s confidence map on ``depth_hr`` and of the steepness baseline."""
+    from ..methods.confidence import generic_confidence, steepness_confidence
+
+    if entry.confidence is not None:
+        again, conf = entry.confidence(case.depth_lr, case.rgb_hr, params=params, progress=None)
+        if entry.deterministic and not np.array_equal(again, depth_hr, equal_nan=True):
+            raise RuntimeError(f"method {entry.name!r}: its confidence hook's depth differs from its output on "
+                               f"{case.scene} x{case.scale}; they must be bit-identical.")
+    else:
+        conf = generic_confidence(case.depth_lr, depth_hr)
+    return (sparsification(depth_hr, case.depth_gt, conf, border=case.border),
+            sparsification(depth_hr, case.depth_gt, steepness_confidence(depth_hr), border=case.border))
 
 
 def mean_and_count(values: Iterable[float]) -> tuple[float, int]:

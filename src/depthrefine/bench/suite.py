@@ -14,7 +14,7 @@ import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any, Callable, Iterator, Mapping, Sequence
 
 from ..io import InputFileError
 from .protocols import PAIRS, PROTOCOLS, TUNING_SCENES, left_out_reason, load_cases, pairs_protocol, \
@@ -133,7 +133,8 @@ class CaseFigure:
 
 
 def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
-              progress: Callable[[int, int, str], None] | None = None) -> Iterator[tuple[list, CaseFigure | None]]:
+              progress: Callable[[int, int, str], None] | None = None,
+              curves: dict | None = None) -> Iterator[tuple[list, CaseFigure | None]]:
     """Run ``methods`` on ``cases`` one case at a time: yield each case's rows and its figure (or None).
 
     With ``figures``, a case gets a figure when it is at x8 (else the largest
@@ -142,7 +143,10 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
     scale (:func:`~.figures.error_scale`), so they are drawn when the
     protocol's last case is done and yielded then, with no rows; their
     results are dropped once drawn. ``progress(done, total, case)`` counts
-    the (method, case) runs.
+    the (method, case) runs. With ``curves`` (a dict), each method's
+    confidence map is scored too (``run_benchmark(confidence=True)``: the
+    rows' AUSE fields) and its sparsification curves, with the steepness
+    baseline's, are put into ``curves`` (keyed as ``BenchResult.curves``).
     """
     from . import figures as scene_figures
     from .runner import run_benchmark
@@ -175,9 +179,12 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
             want = figures and case.scale == figure_scale
         offset = done_before
         result = run_benchmark([case], methods, params=protocol_params(case.protocol), keep=(lambda c: want),
+                               confidence=curves is not None,
                                progress=None if progress is None else (
                                    lambda done, _total: progress(offset + done, total, label)))
         done_before += len(methods)
+        if curves is not None:
+            curves.update(result.curves)
         if want:
             made += 1
             pending.append((case, result.kept[case.key], {r.method: r.rmse for r in result.rows}))
@@ -247,12 +254,14 @@ def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] 
 
 
 def report_files(rows: Sequence, methods: Sequence[str], figures: Sequence[tuple[str, str]],
-                 skipped: Sequence[str] = ()) -> dict[str, Any]:
+                 skipped: Sequence[str] = (), *, curves: Mapping | None = None) -> dict[str, Any]:
     """The report folder's files besides the case figures: name -> text, or a matplotlib figure (the plot).
 
     ``figures`` are the case figures already written, ``(caption, file name)``.
     The files: ``rmse_vs_scale.png``, ``scores.csv``, ``summary.md``,
-    ``index.html`` and ``run.json`` (the version, methods and parameters).
+    ``index.html`` and ``run.json`` (the version, methods and parameters);
+    with ``curves`` (:func:`run_suite`'s), ``sparsification.png``, the
+    confidence maps' sparsification curves, and their section in the pages.
     """
     from .. import __version__
     from ..methods.params import params_to_dict
@@ -262,11 +271,19 @@ def report_files(rows: Sequence, methods: Sequence[str], figures: Sequence[tuple
     params_used = {m: params_to_dict(get_method(m).default_params()) for m in methods}
     notes = report_notes(rows, methods, skipped)
     plot = "rmse_vs_scale.png"
-    return {
-        plot: report.rmse_scale_figure(rows),
+    files: dict[str, Any] = {plot: report.rmse_scale_figure(rows)}
+    confidence_plot = None
+    if curves:
+        from .confidence_report import sparsification_figure
+
+        confidence_plot = "sparsification.png"
+        files[confidence_plot] = sparsification_figure(curves, rows)
+    return files | {
         "scores.csv": report.csv_text(rows),
-        "summary.md": report.summary_markdown(rows, params_used=params_used, notes=notes, figures=figures, plot=plot),
-        "index.html": report.html_page(rows, params_used=params_used, notes=notes, figures=figures, plot=plot),
+        "summary.md": report.summary_markdown(rows, params_used=params_used, notes=notes, figures=figures, plot=plot,
+                                              confidence_plot=confidence_plot),
+        "index.html": report.html_page(rows, params_used=params_used, notes=notes, figures=figures, plot=plot,
+                                       confidence_plot=confidence_plot),
         "run.json": json.dumps({"depthrefine": __version__, "methods": list(methods), "params": params_used},
                                indent=2) + "\n",
     }

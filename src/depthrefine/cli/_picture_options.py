@@ -55,7 +55,7 @@ def add_preview_option(parser: argparse.ArgumentParser) -> None:
     """``--preview PNG`` with the picture options (for commands that write a depth map)."""
     parser.add_argument("--preview", metavar="PNG",
                         help="also write a picture of the result (colorbar in the depth's units) beside the color "
-                             "image")
+                             "image (and its confidence map, with --confidence or --min-confidence)")
     add_picture_options(parser, what="--preview")
 
 
@@ -78,10 +78,11 @@ def check_window(args: argparse.Namespace, shape: tuple[int, int]) -> None:
 
 
 def write_preview(args: argparse.Namespace, path: Path, depth: np.ndarray, rgb: np.ndarray, *, units: str,
-                  title: str) -> Path:
-    """Draw ``depth`` beside ``rgb`` as --crop / --scale / --full say and write it to ``path`` (--preview)."""
+                  title: str, confidence: np.ndarray | None = None) -> Path:
+    """Draw ``depth`` beside ``rgb`` (and its ``confidence`` map, when given) as --crop / --scale / --full say and
+    write it to ``path`` (--preview)."""
     from .. import viz
     from ..io import write_figure
 
-    fig = viz.depth_figure(depth, rgb, units=units, title=title, **picture_options(args))
+    fig = viz.depth_figure(depth, rgb, units=units, title=title, confidence=confidence, **picture_options(args))
     return write_figure(path, fig, overwrite=args.overwrite)

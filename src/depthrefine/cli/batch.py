@@ -16,6 +16,7 @@ from ..io._names import DEFAULT_MAX_DT
 from ..methods._names import DEFAULT_METHOD
 from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
                       parse_count, progress_bar)
+from ._confidence import add_confidence_options
 from ._rig_options import add_align_options
 
 
@@ -29,7 +30,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
             "by stem, a CSV manifest with columns depth,color (paths relative to it), or a recording or ROS bag. "
             "Registered frames are refined as they are; raw frames of a rig (--rig, or the recording's own "
             "calibration) are undistorted and aligned first, as `depthrefine run` does. Writes OUTDIR/<stem>.<ext> "
-            "in the depth's dtype (for bags the stem is the depth time stamp in ns) and OUTDIR/batch.json. Runs on "
+            "in the depth's dtype (for bags the stem is the depth time stamp in ns), with --confidence FORMAT "
+            "OUTDIR/confidence/<stem>.<FORMAT>, and OUTDIR/batch.json. Runs on "
             "a local Dask cluster (one process per core) or, with --scheduler, on a remote one; a lost worker's "
             "frames are recomputed on the others. Run the same command again to resume: frames already written "
             "are skipped. Exit status 0 if every paired frame was refined, 2 if a frame's input was bad, 1 if a "
@@ -79,6 +81,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                               "units)")
     outputs.add_argument("--stride", type=parse_count, default=1, metavar="N",
                          help="--ply: keep every N-th row and column (default 1)")
+    add_confidence_options(outputs, folder=True)
     outputs.add_argument("--video", metavar="FILE",
                          help="also write a preview video (.mp4, .mkv, .mov, .avi, .webm): color | input | refined "
                               "side by side, in order, with one colorbar")
@@ -173,6 +176,7 @@ def _options(args: argparse.Namespace):
     return BatchOptions(method=method, params=params, temporal=args.temporal, chunk=args.chunk or DEFAULT_CHUNK,
                         rig=rig, rig_source=rig_source, align=align, fill_holes=fill_holes,
                         output_scale=args.output_scale, output_dtype=args.output_dtype, save_color=args.save_color,
-                        ply=args.ply, ply_stride=args.stride, video=args.video, fps=args.fps,
+                        ply=args.ply, ply_stride=args.stride, confidence=args.confidence,
+                        min_confidence=args.min_confidence, video=args.video, fps=args.fps,
                         frames_per_task=args.frames_per_task, max_dt=args.max_dt,
                         saturated_invalid=args.saturated_invalid, overwrite=args.overwrite)

@@ -111,6 +111,7 @@ def _run(cases, methods, folder: Path | None, skipped=()):
     from ..io import write_figure
 
     rows = []
+    curves: dict = {}   # the sparsification curves of the confidence maps
     figures: list[tuple[str, str]] = []
     bar = tqdm(total=len(cases) * len(methods), desc="bench", unit="run", disable=not sys.stderr.isatty(),
                leave=False)
@@ -120,7 +121,8 @@ def _run(cases, methods, folder: Path | None, skipped=()):
         bar.update(done - bar.n)
 
     try:
-        for case_rows, figure in run_suite(cases, methods, figures=folder is not None, progress=progress):
+        for case_rows, figure in run_suite(cases, methods, figures=folder is not None, progress=progress,
+                                           curves=curves):
             rows += case_rows
             if figure is not None:
                 write_figure(folder / figure.name, figure.figure)
@@ -128,7 +130,7 @@ def _run(cases, methods, folder: Path | None, skipped=()):
     finally:
         bar.close()
     if folder is not None:
-        for name, content in report_files(rows, methods, figures, skipped).items():
+        for name, content in report_files(rows, methods, figures, skipped, curves=curves).items():
             if isinstance(content, str):
                 (folder / name).write_text(content, encoding="utf-8")
             else:

@@ -9,6 +9,8 @@ import threading
 from pathlib import Path
 
 from .. import __version__
+from ._confidence import (add_confidence_options, apply_min_confidence, check_confidence_output, confidence_note,
+                          refine_maybe_confident, wants_confidence)
 from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
                       add_units_option, build_params, depth_units_label, output_depth, params_dict, progress_bar)
 from ._picture_options import add_preview_option, check_window, write_preview
@@ -32,6 +34,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--save-intermediate", metavar="DIR",
                    help="write the pictures of the intermediate steps (and the parameters) into DIR")
     add_preview_option(p)
+    add_confidence_options(p)
     add_units_option(p)
     add_output_format_options(p)
     add_overwrite(p)
@@ -72,8 +75,9 @@ def _run(args: argparse.Namespace) -> int:
     from .. import viz
     from .._validate import as_depth
     from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_distinct_inputs, check_output,
-                      check_output_dir, read_depth, read_rgb, write_depth, write_intermediates)
-    from ..methods.registry import get_method, refine, refine_intermediates
+                      check_output_dir, read_depth, read_rgb, write_confidence, write_depth, write_intermediates)
+    from ..methods.confidence import confidence_of
+    from ..methods.registry import get_method, refine_intermediates
     from ..methods.scale import plan_scale
     from ..viz import depth_figure
 
@@ -94,6 +98,7 @@ def _run(args: argparse.Namespace) -> int:
                                inputs=(args.depth, args.color), what="--preview file")
         if preview.resolve() == out.resolve():
             raise ValueError(f"-o {out} and --preview {args.preview} are the same file; give the picture its own name.")
+    confidence_out = check_confidence_output(args, inputs=(args.depth, args.color), taken=(out, preview))
     params = build_params(args)  # before reading the images: a bad parameter fails at once
     depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
@@ -103,12 +108,19 @@ def _run(args: argparse.Namespace) -> int:
     entry = get_method(args.method)
     update, close = progress_bar(f"refine ({entry.name})")
     try:
-        if args.save_intermediate:
+        if args.save_intermediate and entry.intermediates is not None:
             depth_hr, steps = refine_intermediates(depth_lr, rgb_hr, method=entry.name, params=params, progress=update)
+            confidence = (confidence_of(entry, depth_lr, rgb_hr, depth_hr, params=params)
+                          if wants_confidence(args) else None)
         else:
-            depth_hr = refine(depth_lr, rgb_hr, method=entry.name, params=params, progress=update)
+            steps = None
+            depth_hr, confidence = refine_maybe_confident(args, depth_lr, rgb_hr, method=entry.name, params=params,
+                                                          progress=update)
     finally:
         close()
+    if confidence is not None:
+        note = confidence_note(confidence, args.min_confidence)
+        depth_hr, confidence = apply_min_confidence(depth_hr, confidence, args.min_confidence)
 
     record = {
         "depthrefine": __version__,
@@ -133,8 +145,11 @@ def _run(args: argparse.Namespace) -> int:
 
     def write_outputs() -> None:
         written.append(write_depth(out, stored, dtype=dtype, overwrite=args.overwrite))
+        if confidence_out is not None:
+            written.append(write_confidence(confidence_out, confidence, overwrite=args.overwrite))
         if preview is not None:
-            written.append(write_preview(args, preview, shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})"))
+            written.append(write_preview(args, preview, shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})",
+                                         confidence=confidence))
 
     try:
         if args.save_intermediate:
@@ -154,6 +169,8 @@ def _run(args: argparse.Namespace) -> int:
     if entry.scale_step and step.resizes_color:
         scale_note = f"x{step.factor} after the thesis scale step (see the note above)"
     print(f"wrote {out} ({w}x{h}, {dtype}, method {entry.name}, {scale_note})", file=sys.stderr)
+    if confidence is not None:
+        print(f"{'wrote ' + str(confidence_out) + ': ' if confidence_out else ''}{note}", file=sys.stderr)
     if preview is not None:
         print(f"wrote {preview}", file=sys.stderr)
     return 0

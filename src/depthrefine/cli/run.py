@@ -12,6 +12,8 @@ from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames
 from ..rig._names import ALIGN_METHODS
 from . import CliError
 from ._rig_options import add_align_options, chain_settings, warn_implausible_units
+from ._confidence import (add_confidence_options, apply_min_confidence, check_confidence_output, confidence_note,
+                          refine_pair_maybe_confident)
 from ._common import (add_deprecated_alias, add_depth_options, add_output_format_options, add_overwrite,
                       add_params_options, build_params, output_depth, params_dict, progress_bar)
 from ._picture_options import add_preview_option, check_window, write_preview
@@ -83,6 +85,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="point cloud (--ply): keep every N-th row and column (default 1), as export-ply --stride")
     add_deprecated_alias(p, "--ply-stride", new="--stride", dest="stride", type=int)
     add_output_format_options(p)
+    add_confidence_options(p)
     p.add_argument("--save-aligned", metavar="FILE",
                    help="also write the aligned low-resolution depth (before refinement)")
     p.add_argument("--save-color", metavar="FILE",
@@ -111,8 +114,8 @@ def run_chain(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_distinct_inputs, check_output,
-                      read_depth, read_rgb, write_chain_settings, write_depth, write_ply, write_rgb)
-    from ..rig.chain import align_pair, keep_unmeasured, refine_pair
+                      read_depth, read_rgb, write_chain_settings, write_confidence, write_depth, write_ply, write_rgb)
+    from ..rig.chain import align_pair, keep_unmeasured
     from ..rig.pointcloud import depth_to_points
 
     inputs = (args.depth, args.color, args.rig, args.settings)
@@ -129,6 +132,7 @@ def run_chain(args: argparse.Namespace) -> int:
     paths = [out.resolve()] + [p.resolve() for p in extra_outputs.values()]
     if len(set(paths)) != len(paths):
         raise CliError("the output files must all be different.")
+    confidence_out = check_confidence_output(args, inputs=inputs, taken=(out, *extra_outputs.values()))
     if args.stride < 1:
         raise CliError(f"--stride must be >= 1; got {args.stride}.")
     chain = chain_settings(args)
@@ -148,11 +152,16 @@ def run_chain(args: argparse.Namespace) -> int:
     check_window(args, pair.rgb_hr.shape[:2])
     update, close = progress_bar(f"refine ({method})")
     try:
-        depth_hr, scale_note = refine_pair(pair.depth_lr, pair.rgb_hr, method=method, params=params, progress=update)
+        depth_hr, confidence, scale_note = refine_pair_maybe_confident(args, pair.depth_lr, pair.rgb_hr,
+                                                                       method=method, params=params, progress=update)
     finally:
         close()
     fill_holes = args.fill_holes or chain.fill_holes
     depth_hr = keep_unmeasured(depth_hr, pair.depth_lr, fill_enclosed=fill_holes)
+    if confidence is not None:
+        confidence[~np.isfinite(depth_hr)] = 0.0   # no depth, no confidence
+        confidence_line = confidence_note(confidence, args.min_confidence)
+        depth_hr, confidence = apply_min_confidence(depth_hr, confidence, args.min_confidence)
     stored, dtype = output_depth(args, depth_hr, depth_raw.dtype)
     cloud = None
     if args.ply:
@@ -163,6 +172,8 @@ def run_chain(args: argparse.Namespace) -> int:
     written: list[Path] = []
     try:
         written.append(write_depth(out, stored, dtype=dtype, overwrite=args.overwrite))
+        if confidence_out is not None:
+            written.append(write_confidence(confidence_out, confidence, overwrite=args.overwrite))
         if "--save-aligned" in extra_outputs:
             written.append(write_depth(extra_outputs["--save-aligned"], pair.depth_lr, dtype=depth_raw.dtype,
                                        overwrite=args.overwrite))
@@ -174,7 +185,8 @@ def run_chain(args: argparse.Namespace) -> int:
                                                "metres, color camera frame: X right, Y down, Z forward")))
         if "--preview" in extra_outputs:
             written.append(write_preview(args, extra_outputs["--preview"], depth_hr, pair.rgb_hr, title=out.name,
-                                         units={0.001: "mm", 0.01: "cm", 1.0: "m"}.get(align.depth_units, "as stored")))
+                                         units={0.001: "mm", 0.01: "cm", 1.0: "m"}.get(align.depth_units, "as stored"),
+                                         confidence=confidence))
         if "--save-settings" in extra_outputs:
             used = ChainSettings(rig=chain.rig, align=align, method=method, params=params_dict(params),
                                  rig_source=chain.rig_source, fill_holes=fill_holes)
@@ -189,6 +201,8 @@ def run_chain(args: argparse.Namespace) -> int:
     notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0)"
                  + ("" if fill_holes else "; --fill-holes fills those inside a measured surface"))
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
+    if confidence is not None:
+        print(f"{'wrote ' + str(confidence_out) + ': ' if confidence_out else ''}{confidence_line}", file=sys.stderr)
     if cloud is not None:
         print(f"wrote {extra_outputs['--ply']} ({cloud[0].shape[0]} points)", file=sys.stderr)
     if "--preview" in extra_outputs:

@@ -14,6 +14,7 @@ _EXPORTS = {
     "._images": ("DEPTH_SUFFIXES", "check_depth_format", "depth_to_dtype", "image_shape", "output_values", "read_depth",
                  "read_rgb", "scale_to_dtype", "write_depth", "write_figure", "write_rgb"),
     "._params": ("read_mapping", "read_patch_layout"),
+    "._confidence": ("CONFIDENCE_SUFFIXES", "check_confidence_format", "read_confidence", "write_confidence"),
     "._intermediates": ("write_intermediates",),
     "._camera": ("ChainSettings", "read_camera", "read_chain_settings", "read_depth_units", "read_rig", "write_camera",
                  "write_chain_settings", "write_rig"),

@@ -399,7 +399,11 @@ def write_depth(
     p = check_output(path, overwrite=overwrite, what="output")
     dtype = np.dtype(depth.dtype if dtype is None else dtype)
     suffix = check_depth_format(p, dtype)
-    data = depth_to_dtype(depth, dtype)
+    return write_array(p, depth_to_dtype(depth, dtype), suffix, overwrite=overwrite)
+
+
+def write_array(p: Path, data: np.ndarray, suffix: str, *, overwrite: bool) -> Path:
+    """Write ``data`` atomically to the checked path ``p`` as ``suffix`` says (.npy, .tif/.tiff, else OpenCV)."""
 
     def _write(tmp: Path) -> None:
         if suffix == ".npy":

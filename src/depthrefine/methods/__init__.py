@@ -3,6 +3,7 @@
 - ``registry``   :data:`METHODS`, :func:`register_method`, :func:`get_method`, :func:`refine`
 - ``baselines``  nearest, bilinear, bicubic enlargement
 - ``peers``      OpenCV-contrib guided filters as methods: jbf, guided, fgs, wmf (fbs where it works)
+- ``confidence`` :func:`refine_with_confidence`: a confidence map for every method (gbp's own, else generic)
 - ``scale``      the thesis's scale step for non-integer ratios (applied by every method's caller)
 - ``thesis``     the thesis method (chapter 4): parameters, color segmentation, the refinement
 
@@ -15,7 +16,7 @@ importing the methods.
 
 from .._lazy import lazy_exports
 
-__all__ = ["METHODS", "Method", "get_method", "refine", "register_method"]
+__all__ = ["METHODS", "Method", "get_method", "refine", "register_method", "refine_with_confidence"]
 
-__getattr__, __dir__ = lazy_exports(__name__, {".registry": __all__},
-                                    ("registry", "baselines", "peers", "gbp", "scale", "thesis"))
+__getattr__, __dir__ = lazy_exports(__name__, {".registry": __all__[:5], ".confidence": __all__[5:]},
+                                    ("registry", "baselines", "peers", "gbp", "scale", "thesis", "confidence"))

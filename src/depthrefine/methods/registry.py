@@ -81,6 +81,15 @@ class Method:
         color/depth ratio it resizes the color image first (the scale step of
         :mod:`.scale`) and warns with :class:`~.scale.ScaleWarning`. The others
         resize straight to the color grid.
+    confidence : callable or None
+        Optional confidence map from the method's own internals:
+        ``confidence(depth_lr, rgb_hr, *, params=None, progress=None) ->
+        (depth_hr, confidence)``, the depth bit-identical to ``func``'s and
+        the confidence float32 in [0, 1] on the same grid (1 = most trusted,
+        0 where there is no depth). Methods without it get the generic map of
+        :func:`depthrefine.methods.confidence.generic_confidence` (from the
+        input's support and the output's local disagreement);
+        :func:`depthrefine.refine_with_confidence` picks one or the other.
     """
 
     name: str
@@ -94,6 +103,7 @@ class Method:
     options: tuple[MethodOption, ...] = ()
     intermediates: Callable[..., tuple[np.ndarray, Intermediates]] | None = None
     scale_step: bool = False
+    confidence: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
 
     def default_params(self) -> Any:
         """The method's default parameters (``None`` if it has none)."""
@@ -117,6 +127,7 @@ def register_method(
     options: tuple[MethodOption, ...] = (),
     intermediates: Callable[..., tuple[np.ndarray, Intermediates]] | None = None,
     scale_step: bool = False,
+    confidence: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> Method:
     """Add a method to :data:`METHODS` and return its entry (the keywords are :class:`Method`'s attributes).
 
@@ -137,7 +148,7 @@ def register_method(
     entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided,
                    deterministic=deterministic, interpolating=interpolating,
                    refine_stateful=refine_stateful, options=options, intermediates=intermediates,
-                   scale_step=scale_step)
+                   scale_step=scale_step, confidence=confidence)
     METHODS[name] = entry
     return entry
 
@@ -288,7 +299,7 @@ if peers.fast_bilateral_solver_available():
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
 register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,
-                refine_stateful=gbp.upsample_gbp_stateful,
+                refine_stateful=gbp.upsample_gbp_stateful, confidence=gbp.upsample_gbp_with_confidence,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")
 register_method("gbp-fast", upsample_gbp_fast, params_type=GbpFastParams, interpolating=True,

@@ -21,7 +21,8 @@ registered color image (``H x W``, any factor) in five steps (a sixth on request
    two depth pixels, onto the strongest color edge between its surfaces: for
    real sensors whose edges sit off the color edges.
 
-``upsample`` runs the steps in this order (:func:`upsample_gbp`) and holds the
+``confidence`` makes its confidence map from these internals
+(:func:`upsample_gbp_with_confidence`). ``upsample`` runs the steps in this order (:func:`upsample_gbp`) and holds the
 warm start for video (:func:`upsample_gbp_stateful`); ``params`` holds the
 knobs (:class:`GbpParams`). Invalid input pixels are filled from the nearest
 valid pixel before any interpolation and never pull the result; the output
@@ -41,6 +42,7 @@ from .measure import InputMeasures, block_mean_valid, estimate_guide_noise, esti
 from .params import GbpParams
 from .trust import guide_trust
 from .upsample import upsample_gbp, upsample_gbp_stateful
+from .confidence import upsample_gbp_with_confidence
 
-__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "estimate_noise", "estimate_guide_noise",
+__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "upsample_gbp_with_confidence", "estimate_noise", "estimate_guide_noise",
            "footprint_share", "guide_trust", "block_mean_valid", "InputMeasures"]

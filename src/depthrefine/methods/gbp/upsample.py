@@ -63,8 +63,15 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
 
 
 def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
-            progress: Progress | None) -> tuple[np.ndarray, InputMeasures]:
-    """:func:`upsample_gbp`'s steps on the float input and the 8-bit guide; the result and the input's measures."""
+            progress: Progress | None, keep: dict | None = None) -> tuple[np.ndarray, InputMeasures]:
+    """:func:`upsample_gbp`'s steps on the float input and the 8-bit guide; the result and the input's measures.
+
+    ``keep``, when given, receives what the confidence map needs
+    (:mod:`.confidence`): ``guided``, the result before step 5's fallback,
+    and ``trust``, the guide's trust per input pixel (None without step 5);
+    step 6 (``snap_edges``) comes after, so with it ``|result - guided|``
+    also counts the moves of the snapped edges.
+    """
     p = GbpParams() if params is None else params
     if not isinstance(p, GbpParams):
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
@@ -73,9 +80,14 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
     result = flat_blend(result, measures, solver, p)                           # 4
+    if keep is not None:
+        keep.update(guided=result, trust=None)
     if p.trust:                                                                # 5
         clip_to_bounds(result, bounds)
-        result = blend_fallback(result, measured_trust(measures, guide, p), measures)
+        trust = measured_trust(measures, guide, p)
+        if keep is not None:
+            keep.update(guided=result.copy(), trust=trust)
+        result = blend_fallback(result, trust, measures)
     if p.snap_edges:                                                           # 6
         result = snap_edges(result, measures, solver)
     if progress is not None:
