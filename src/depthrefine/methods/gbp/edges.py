@@ -17,15 +17,11 @@ color (the guide shows no edge), the result is left as it is.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .measure import InputMeasures
 from .solve import resize
-
-if TYPE_CHECKING:
-    from .solve import Solver
 
 __all__ = ["jump_band", "snap_edges"]
 
@@ -57,10 +53,12 @@ def jump_band(m: InputMeasures) -> np.ndarray:
     return (spread > threshold) & (m.jump >= 0.5)
 
 
-def snap_edges(result: np.ndarray, m: InputMeasures, solver: Solver) -> np.ndarray:
+def snap_edges(result: np.ndarray, m: InputMeasures, guide: np.ndarray, scale: float) -> np.ndarray:
     """Give every color pixel in the band around a large jump the depth of the surface it is joined to.
 
-    ``result`` (H, W) float32 is updated in place and returned.
+    ``guide`` is the (H, W, 3) uint8 guide after step 2's bilateral filter
+    (``Solver.guide``), ``scale`` the enlargement factor. ``result`` (H, W)
+    float32 is updated in place and returned.
     """
     import cv2
 
@@ -72,7 +70,7 @@ def snap_edges(result: np.ndarray, m: InputMeasures, solver: Solver) -> np.ndarr
         return result
     shape = result.shape
     band = resize(band_lr.astype(np.uint8), shape, cv2.INTER_NEAREST) > 0
-    guide = cv2.GaussianBlur(solver.guide, (0, 0), GUIDE_BLUR).astype(np.float32)
+    guide = cv2.GaussianBlur(guide, (0, 0), GUIDE_BLUR).astype(np.float32)
     cost_x = np.sqrt(np.sum(np.square(guide[:, 1:] - guide[:, :-1]), axis=2)) + STEP_LEVELS
     cost_y = np.sqrt(np.sum(np.square(guide[1:] - guide[:-1]), axis=2)) + STEP_LEVELS
     cost_x = np.pad(cost_x, ((0, 0), (0, 1))).astype(np.float32)
@@ -90,13 +88,13 @@ def snap_edges(result: np.ndarray, m: InputMeasures, solver: Solver) -> np.ndarr
     weight_y = (near[1:] == near[:-1]).astype(np.float32)
     weight_x = np.pad(weight_x, ((0, 0), (0, 1)))
     weight_y = np.pad(weight_y, ((0, 1), (0, 0)))
-    snapped = _wls.smooth(joined, weight_x, weight_y, SNAP_SMOOTH * (BAND_RADIUS * solver.scale) ** 2)
+    snapped = _wls.smooth(joined, weight_x, weight_y, SNAP_SMOOTH * (BAND_RADIUS * scale) ** 2)
     seeds = ~band
     near_seed = seeds & near
     far_seed = seeds & ~near
 
     # follow the guide only where the two sides differ in color: mean color of the near and far seeds around
-    size = 2 * (2 * BAND_RADIUS + 1) * int(math.ceil(solver.scale)) + 1     # reaches past the band from inside it
+    size = 2 * (2 * BAND_RADIUS + 1) * int(math.ceil(scale)) + 1     # reaches past the band from inside it
     near, far = near_seed.astype(np.float32), far_seed.astype(np.float32)
     box = (size, size)
     n_near = cv2.boxFilter(near, -1, box, normalize=False)

@@ -115,9 +115,9 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray)
 
     kernel = np.ones((3, 3), np.uint8)
     up = resize(depth, shape, cv2.INTER_CUBIC)
-    low = resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST)
-    high = resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST)
-    clipped = np.clip(up, low, high)
+    # np.clip(up, low, high), one full-size bound at a time (the call's peak memory)
+    clipped = cv2.max(up, resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST))
+    cv2.min(clipped, resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST), dst=clipped)
     # up <- up + jump * (clipped - up), in place
     clipped -= up
     clipped *= resize(jump, shape, cv2.INTER_LINEAR)

@@ -80,16 +80,20 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
     result = flat_blend(result, measures, solver, p)                           # 4
+    # the solves' weights are done with: free them before step 5 makes its own (the call's peak memory)
+    smoothed_guide, scale = solver.guide, solver.scale
+    del solver
     if keep is not None:
         keep.update(guided=result, trust=None)
     if p.trust:                                                                # 5
         clip_to_bounds(result, bounds)
+        del bounds
         trust = measured_trust(measures, guide, p)
         if keep is not None:
             keep.update(guided=result.copy(), trust=trust)
         result = blend_fallback(result, trust, measures)
     if p.snap_edges:                                                           # 6
-        result = snap_edges(result, measures, solver)
+        result = snap_edges(result, measures, smoothed_guide, scale)
     if progress is not None:
         progress(p.iterations + 1, p.iterations + 1)
     return result.astype(np.float32, copy=False), measures
