@@ -2,92 +2,212 @@
 
 A generated sequence (``make_sequence``: a disc moving over a static scene,
 fresh depth and color noise per frame, uint16 mm) is refined on Dask
-``LocalCluster``s of 1 and 2 worker processes (one thread each), and with
-``temporal=True`` (warm start, two chunks of half the frames, one per worker) on 2 workers. Each
-configuration runs ``--repeats`` times on a cluster that has already refined
-a warm-up batch (imports and first-call costs excluded; the cluster start is
-not timed); the figures are medians. The work per frame is independent, so 2
-workers should give close to 2x the frames per second of 1 on a machine with 2
-free cores (the thesis method also uses threads inside a frame, which 1
-worker can use too: expect less than 2x).
+``LocalCluster``s of 1 and 2 worker processes (one Dask thread each; each
+worker caps its kernel threads at its share of the cores, so 1 worker on 2
+cores runs 2 kernel threads, 2 workers 1 each), and with ``temporal=True``
+(warm start, two chunks of half the frames, one per worker) on 2 workers.
+Each configuration runs ``--repeats`` times on a cluster that has already
+refined a warm-up batch (imports and first-call costs excluded; the cluster
+start is not timed), the configurations taking turns (1 worker, 2 workers, 2
+workers temporal, then again), so that on a machine shared with other jobs
+each sees the same load; the figures are medians. The load average of the
+machine (``os.getloadavg``) is printed beside them: the ratio of 2 workers
+to 1 is only as good as the free cores. Two reference lines follow: one
+frame refined in the bench's own process with 1 and with 2 kernel threads
+(what a lone worker gains inside a frame from the second core, which bounds
+what a second worker can add), and one-thread processes refining frames in a
+loop without Dask, 1 alone and 2 at once (what the machine gives two
+workers at that moment).
 
 Flicker (``depthrefine.bench.metrics.flicker``: mean absolute frame-to-frame
 change on pixels whose ground truth did not change, in mm) and the mean RMSE
 against the ground truth are printed for the frames refined independently and
 with ``temporal``, on the timed sequence (ToF-like depth noise of 10 mm, new
 in every frame, which no warm start can remove) and on the same sequence
-without depth noise (what is left is the clustering's flicker).
+without depth noise.
 
 Usage::
 
-    python benchmarks/bench_batch.py [--frames 48] [--size 240x320] [--scale 4] [--repeats 3] [--method thesis]
+    python benchmarks/bench_batch.py [--frames 48] [--size 240x320] [--scale 4] [--repeats 5] [--method gbp]
+                                     [--no-flicker | --no-speed]
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
+import os
 import statistics
 import time
 
 import numpy as np
 
 
-def main() -> None:
+def _load() -> str:
+    one, five, _ = os.getloadavg()
+    return f"load {one:.2f} (1 min) {five:.2f} (5 min)"
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
+                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    ap.add_argument("--frames", type=int, default=48, help="frames in the sequence")
+    ap.add_argument("--size", default="240x320", help="color image ROWSxCOLS")
+    ap.add_argument("--scale", type=int, default=4, help="color / depth resolution ratio")
+    ap.add_argument("--repeats", type=int, default=5, help="timed runs per configuration (the median is reported)")
+    ap.add_argument("--method", default="gbp", help="refinement method")
+    only = ap.add_mutually_exclusive_group()
+    only.add_argument("--no-flicker", action="store_true", help="only the frames per second")
+    only.add_argument("--no-speed", action="store_true", help="only the flicker table (no timing)")
+    return ap
+
+
+def _cluster(stack: contextlib.ExitStack, workers: int):
     from distributed import Client, LocalCluster
 
+    cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                               host="127.0.0.1", dashboard_address=":0", silence_logs=logging.ERROR))
+    return stack.enter_context(Client(cluster))
+
+
+def _refined(pairs, args, client, temporal: bool) -> list[np.ndarray]:
     from depthrefine.batch import refine_many
+
+    chunk = (len(pairs) + 1) // 2  # two chunks: one per worker
+    return [d for _, d in refine_many(pairs, method=args.method, client=client, temporal=temporal, chunk=chunk)]
+
+
+def speed(pairs, args) -> dict[bool, list[np.ndarray]]:
+    """Print the frames per second of each configuration; return the outputs of 2 workers (key: temporal)."""
+    configs = (("1 worker", 1, False), ("2 workers", 2, False), ("2 workers --temporal", 2, True))
+    times: dict[str, list[float]] = {label: [] for label, _, _ in configs}
+    loads: dict[str, list[float]] = {label: [] for label, _, _ in configs}
+    outputs: dict[str, list] = {}
+    with contextlib.ExitStack() as stack:
+        clients = {workers: _cluster(stack, workers) for workers in (1, 2)}
+        for workers, client in clients.items():
+            _refined(pairs[:4 * workers], args, client, False)  # warm-up: imports, compilation, first calls
+        for _ in range(args.repeats):  # the configurations take turns, so that each sees the same load
+            for label, workers, temporal in configs:
+                start = time.perf_counter()
+                outputs[label] = _refined(pairs, args, clients[workers], temporal)
+                times[label].append(time.perf_counter() - start)
+                loads[label].append(os.getloadavg()[0])
+    fps = {}
+    for label, _, _ in configs:
+        fps[label] = len(pairs) / statistics.median(times[label])
+        print(f"  {label:22s} {fps[label]:7.2f} frames/s   (runs: {', '.join(f'{len(pairs) / t:.2f}' for t in times[label])}; "
+              f"1-min load after each: {', '.join(f'{v:.1f}' for v in loads[label])})", flush=True)
+    print(f"  2 workers / 1 worker: {fps['2 workers'] / fps['1 worker']:.2f}x;  temporal / independent (2 workers): "
+          f"{fps['2 workers --temporal'] / fps['2 workers']:.2f}x")
+    one, two = (_frame_ms(pairs, args, threads) for threads in (1, 2))
+    print(f"  one frame in this process: {one:.1f} ms with 1 kernel thread, {two:.1f} ms with 2 ({one / two:.2f}x; "
+          f"what 1 worker on 2 cores gains inside a frame, the most 2 workers can gain over it is {2 * two / one:.2f}x)")
+    alone, pair = (_processes_rate(args, n) for n in (1, 2))
+    print(f"  without Dask, one-thread processes refining frames in a loop: 1 process {alone:.2f} frames/s, 2 at once "
+          f"{pair:.2f} frames/s ({pair / alone:.2f}x: what this machine gives 2 workers now)")
+    return {False: outputs["2 workers"], True: outputs["2 workers --temporal"]}
+
+
+def _processes_rate(args, processes: int, seconds: float = 5.0) -> float:
+    """Frames per second of ``processes`` one-thread processes refining frames at once, in total."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    queue, start = ctx.Queue(), ctx.Event()
+    workers = [ctx.Process(target=_refine_loop, args=(args.method, args.size, args.scale, seconds, queue, start))
+               for _ in range(processes)]
+    for w in workers:
+        w.start()
+    for _ in workers:
+        queue.get()  # ready: imported, compiled, warmed up
+    start.set()
+    rate = sum(queue.get() for _ in workers)
+    for w in workers:
+        w.join()
+    return rate
+
+
+def _refine_loop(method: str, size: str, scale: int, seconds: float, queue, start) -> None:
+    import cv2
+
+    from depthrefine import _numba
+    from depthrefine.bench.synthetic import make_sequence
+    from depthrefine.methods.registry import refine
+
+    cv2.setNumThreads(1)
+    _numba.set_threads(1)
+    rows, cols = (int(v) for v in size.lower().split("x"))
+    frames = make_sequence(4, (rows, cols), scale, seed=3, color_noise_std=8.0)
+    refine(frames[0].depth_lr, frames[0].rgb_hr, method=method)
+    queue.put("ready")
+    start.wait()
+    begin, done = time.perf_counter(), 0
+    while time.perf_counter() - begin < seconds:
+        frame = frames[done % len(frames)]
+        refine(frame.depth_lr, frame.rgb_hr, method=method)
+        done += 1
+    queue.put(done / (time.perf_counter() - begin))
+
+
+def _frame_ms(pairs, args, threads: int, runs: int = 10) -> float:
+    """Median milliseconds of one frame refined here with ``threads`` kernel threads (numba and OpenCV)."""
+    import cv2
+
+    from depthrefine import _numba
+    from depthrefine.methods.registry import refine
+
+    before = _numba.set_threads(threads), cv2.getNumThreads()
+    cv2.setNumThreads(threads)
+    try:
+        times = []
+        for i in range(runs + 1):
+            _, depth, rgb = pairs[i % len(pairs)]
+            start = time.perf_counter()
+            refine(depth, rgb, method=args.method)
+            times.append(time.perf_counter() - start)
+    finally:
+        _numba.set_threads(before[0])
+        cv2.setNumThreads(before[1])
+    return 1000 * statistics.median(times[1:])
+
+
+def flicker_table(sequences, outputs) -> None:
+    """Flicker and mean RMSE of each sequence's outputs, each frame on its own and with the warm start."""
     from depthrefine.bench.metrics import flicker, rmse
+
+    for name, seq in sequences.items():
+        truth = [f.depth_hr_gt for f in seq]
+        for temporal in (False, True):
+            mean_rmse = float(np.mean([rmse(o, g) for o, g in zip(outputs[name][temporal], truth)]))
+            print(f"  {name:18s} {'temporal' if temporal else 'independent':12s} flicker "
+                  f"{flicker(outputs[name][temporal], truth):7.3f} mm   mean RMSE {mean_rmse:7.2f} mm")
+
+
+def main() -> None:
     from depthrefine.bench.synthetic import make_sequence
 
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--frames", type=int, default=48)
-    ap.add_argument("--size", default="240x320", help="color image ROWSxCOLS (default 240x320)")
-    ap.add_argument("--scale", type=int, default=4)
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--method", default="thesis")
-    args = ap.parse_args()
+    args = _parser().parse_args()
     rows, cols = (int(v) for v in args.size.lower().split("x"))
-    seq = make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0)
-    pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(seq)]
-    gts = [f.depth_hr_gt for f in seq]
+    sequences = {"depth noise 10 mm": make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0),
+                 "no depth noise": make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0,
+                                                 noise_std=0.0)}
+    pairs = {name: [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(seq)] for name, seq in sequences.items()}
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     print(f"{args.frames} frames, color {cols}x{rows}, depth {cols // args.scale}x{rows // args.scale} "
-          f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians")
-
-    chunk = (args.frames + 1) // 2
-    results: dict[str, tuple[float, list]] = {}
-    for label, workers, temporal in (("1 worker", 1, False), ("2 workers", 2, False),
-                                     ("2 workers --temporal", 2, True)):
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                          dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-            list(refine_many(pairs[:2 * workers], method=args.method, client=client))  # warm-up
-            times, outputs = [], None
-            for _ in range(args.repeats):
-                start = time.perf_counter()
-                outputs = [d for _, d in refine_many(pairs, method=args.method, client=client, temporal=temporal,
-                                                     chunk=chunk)]
-                times.append(time.perf_counter() - start)
-        fps = args.frames / statistics.median(times)
-        results[label] = (fps, outputs)
-        print(f"  {label:22s} {fps:7.2f} frames/s   (runs: {', '.join(f'{args.frames / t:.2f}' for t in times)})",
-              flush=True)
-    one, two = results["1 worker"][0], results["2 workers"][0]
-    print(f"  2 workers / 1 worker: {two / one:.2f}x;  temporal / independent (2 workers): "
-          f"{results['2 workers --temporal'][0] / two:.2f}x")
-    quiet = make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0, noise_std=0.0)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0",
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-        quiet_pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(quiet)]
-        quiet_out = {temporal: [d for _, d in refine_many(quiet_pairs, method=args.method, client=client,
-                                                          temporal=temporal, chunk=chunk)]
-                     for temporal in (False, True)}
-    rows_out = [("depth noise 10 mm", gts, {False: results["2 workers"][1], True: results["2 workers --temporal"][1]}),
-                ("no depth noise", [f.depth_hr_gt for f in quiet], quiet_out)]
-    for name, truth, outs in rows_out:
-        for temporal in (False, True):
-            mean_rmse = float(np.mean([rmse(o, g) for o, g in zip(outs[temporal], truth)]))
-            print(f"  {name:18s} {'temporal' if temporal else 'independent':12s} flicker "
-                  f"{flicker(outs[temporal], truth):7.3f} mm   mean RMSE {mean_rmse:7.2f} mm")
+          f"(x{args.scale}), method {args.method}, {args.repeats} repeats, medians; {cores} cores; {_load()}")
+    outputs = {}
+    if not args.no_speed:
+        outputs["depth noise 10 mm"] = speed(pairs["depth noise 10 mm"], args)
+    if args.no_flicker:
+        return
+    with contextlib.ExitStack() as stack:
+        client = _cluster(stack, 2)
+        for name in sequences:
+            if name not in outputs:
+                outputs[name] = {temporal: _refined(pairs[name], args, client, temporal) for temporal in (False, True)}
+    flicker_table(sequences, outputs)
 
 
 if __name__ == "__main__":

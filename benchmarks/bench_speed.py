@@ -1,25 +1,38 @@
-"""Speed and memory of every registered method beside OpenCV-contrib's fast global smoother.
+"""Speed and memory of every registered method beside OpenCV-contrib's fast global smoother, and every speed target.
 
 Prints, per input and per method of ``depthrefine.METHODS`` (all of them, so a
 newly registered method is timed without edits), the median wall time of
 ``refine``, the median time of the peer (bilinear enlargement +
 ``cv2.ximgproc.fastGlobalSmootherFilter`` guided by the same color image),
-timed alternately in the same run, their ratio, and the peak memory that
-``refine`` adds, as a multiple of the output depth map's bytes. Then the time
-of each step of the thesis method (``depthrefine.methods.thesis.refine.step_times``;
-steps solved per patch are summed over patches, which run in threads), and the
-start-up time of the command (``benchmarks/bench_startup.py``).
-Targets (issues 2, 13): thesis <= 3x FGS, memory < 20x the output.
+timed alternately in the same run, their ratio, the ratio of their CPU times
+(all threads; steadier than wall time on a loaded machine), and the peak memory
+that ``refine`` adds, as a multiple of the output depth map's bytes. Then the
+time of each step of the thesis method (``depthrefine.methods.thesis.refine.step_times``;
+steps solved per patch are summed over patches, which run in threads), every
+target with its figure and verdict, the start-up time of the command and the
+first call (``benchmarks/bench_startup.py``), and the machine's load average
+(``os.getloadavg``) at the start and the end: the machine is shared, so quote
+medians and ratios with it.
+
+Targets (issues 2, 13, 22), all ratios to FGS in the same run:
+gbp <= 10x and gbp-fast <= 3x on the thesis geometry and on Art 1376x1088,
+the thesis method <= 3x; peak memory <= 10x the output for gbp and gbp-fast
+(< 20x for every method); gbp-fast's frames per second on an Azure Kinect
+frame (reported); a fresh ``depthrefine refine`` within 1.5x its second call
+in one process plus a bare ``import numpy, cv2``; ``--version`` and every
+``--help`` within 0.3 s of ``python -c pass``.
 
 Inputs: the thesis geometry (SR4000 176x144 depth, x7, color 1232x1008, made
 from the shipped Art scene: color resized, ground truth area-averaged to
-176x144 plus Gaussian noise of 2 levels), and the shipped Art scene
-(1376x1088) at x4, x8, x16.
+176x144 plus Gaussian noise of 2 levels), the shipped Art scene (1376x1088) at
+x4, x8, x16, and the shipped Azure Kinect capture (``load_capture("mug")``):
+its NFOV 640x576 depth registered onto its 720p color at x2
+(``depthrefine.rig.align_pair``: 640x360, 56 % valid) -> 1280x720.
 
 Usage::
 
     python benchmarks/bench_speed.py [--repeats 9] [--methods thesis,fgs] [--no-memory] [--no-startup]
-    python benchmarks/bench_speed.py --methods gbp     # the default method: target <= 1 s per 1376x1088 image
+    python benchmarks/bench_speed.py --methods gbp,gbp-fast,thesis,fgs,bicubic    # the targets' methods
 
 A slow method gets fewer repeats (at least 3) so that it takes about
 ``--budget`` seconds per input; the table says how many it got. Peak memory
@@ -33,6 +46,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
 import subprocess
 import sys
@@ -46,9 +60,9 @@ from depthrefine.io import load_sample
 from depthrefine.methods.thesis.refine import step_times
 
 try:
-    from benchmarks.bench_startup import format_startup, measure_startup
+    from benchmarks.bench_startup import format_first_call, format_startup, measure_first_call, measure_startup
 except ImportError:  # run as a script from benchmarks/
-    from bench_startup import format_startup, measure_startup
+    from bench_startup import format_first_call, format_startup, measure_first_call, measure_startup
 
 FGS_LAMBDA = 24.0
 FGS_SIGMA_COLOR = 8.0
@@ -70,13 +84,38 @@ def _middlebury(scale: int):
     return load
 
 
+def _kinect() -> tuple[np.ndarray, np.ndarray]:
+    """The shipped Azure Kinect capture: NFOV depth registered onto the 720p color at x2 (640x360 -> 1280x720)."""
+    from depthrefine.io import load_capture
+    from depthrefine.rig import AlignSettings, align_pair, rig_from_k4a
+
+    capture = load_capture("mug")
+    rig = rig_from_k4a(json.loads(capture.calibration.read_text()), depth_mode="NFOV_UNBINNED",
+                       color_resolution="720P")
+    pair = align_pair(capture.depth, capture.rgb, rig, settings=AlignSettings(depth_units=capture.depth_units,
+                                                                               factor=2))
+    return pair.depth_lr, pair.rgb_hr
+
+
+THESIS = "thesis geometry 176x144 x7 -> 1232x1008"
+ART = ("Middlebury Art x4 (344x272 -> 1376x1088)", "Middlebury Art x8 (172x136 -> 1376x1088)",
+       "Middlebury Art x16 (86x68 -> 1376x1088)")
+KINECT = "Azure Kinect NFOV on 720p (640x360 -> 1280x720)"
+
 #: name -> loader of (depth_lr, rgb_hr); loaded one at a time.
 INPUTS = {
-    "thesis geometry 176x144 x7 -> 1232x1008": _thesis_geometry,
-    "Middlebury Art x4 (344x272 -> 1376x1088)": _middlebury(4),
-    "Middlebury Art x8 (172x136 -> 1376x1088)": _middlebury(8),
-    "Middlebury Art x16 (86x68 -> 1376x1088)": _middlebury(16),
+    THESIS: _thesis_geometry,
+    ART[0]: _middlebury(4),
+    ART[1]: _middlebury(8),
+    ART[2]: _middlebury(16),
+    KINECT: _kinect,
 }
+
+#: method -> (largest ratio of its wall time to FGS's, the inputs it holds on): issue 22's speed targets.
+RATIO_TARGETS = {"gbp": (10.0, (THESIS, *ART)), "gbp-fast": (3.0, (THESIS, *ART)), "thesis": (3.0, (THESIS, *ART))}
+#: Largest peak memory, in output depth maps, per method (issue 22), and for every method (issue 2).
+MEMORY_TARGETS = {"gbp": 10.0, "gbp-fast": 10.0}
+MEMORY_ANY = 20.0
 
 
 def fgs_peer(depth_lr: np.ndarray, rgb_hr: np.ndarray) -> np.ndarray:
@@ -86,28 +125,35 @@ def fgs_peer(depth_lr: np.ndarray, rgb_hr: np.ndarray) -> np.ndarray:
 
 
 def time_methods(depth_lr, rgb_hr, methods: list[str], repeats: int, budget: float
-                 ) -> tuple[dict[str, tuple[float, int]], float]:
-    """Median seconds (and repeats) of each method, and of the peer, calls alternated to share the noise."""
-    times: dict[str, list[float]] = {}
+                 ) -> tuple[dict[str, tuple[float, int, float]], tuple[float, float]]:
+    """Median wall seconds, repeats and median CPU seconds (all threads) of each method, and of the peer.
+
+    The calls alternate (each method, then the peer, repeat after repeat) so that all share the machine's noise.
+    """
+    wall: dict[str, list[float]] = {}
+    cpu: dict[str, list[float]] = {}
     planned: dict[str, int] = {}
     for name in methods:  # warm-up (imports, thread pools) and a first measure for the budget
         t0 = time.perf_counter()
         depthrefine.refine(depth_lr, rgb_hr, method=name)
         first = time.perf_counter() - t0
         planned[name] = max(3, min(repeats, int(budget / max(first, 1e-6))))
-        times[name] = []
+        wall[name], cpu[name] = [], []
     fgs_peer(depth_lr, rgb_hr)
-    peer = []
+    peer_wall, peer_cpu = [], []
     for i in range(repeats):
         for name in methods:
             if i < planned[name]:
-                t0 = time.perf_counter()
+                c0, t0 = time.process_time(), time.perf_counter()
                 depthrefine.refine(depth_lr, rgb_hr, method=name)
-                times[name].append(time.perf_counter() - t0)
-        t0 = time.perf_counter()
+                wall[name].append(time.perf_counter() - t0)
+                cpu[name].append(time.process_time() - c0)
+        c0, t0 = time.process_time(), time.perf_counter()
         fgs_peer(depth_lr, rgb_hr)
-        peer.append(time.perf_counter() - t0)
-    return {name: (statistics.median(v), len(v)) for name, v in times.items()}, statistics.median(peer)
+        peer_wall.append(time.perf_counter() - t0)
+        peer_cpu.append(time.process_time() - c0)
+    return ({name: (statistics.median(v), len(v), statistics.median(cpu[name])) for name, v in wall.items()},
+            (statistics.median(peer_wall), statistics.median(peer_cpu)))
 
 
 def thesis_step_times(depth_lr, rgb_hr, repeats: int) -> tuple[dict[str, float], float]:
@@ -131,8 +177,8 @@ sys.path[:0] = {path!r}
 import depthrefine
 from benchmarks.bench_speed import INPUTS
 depth, rgb = INPUTS[{name!r}]()
-depthrefine.refine(depth[:8, :8], rgb[:8 * (rgb.shape[0] // depth.shape[0]), :8 * (rgb.shape[1] // depth.shape[1])],
-                   method={method!r})
+depthrefine.refine(np.ones((8, 8), depth.dtype),
+                   rgb[:8 * (rgb.shape[0] // depth.shape[0]), :8 * (rgb.shape[1] // depth.shape[1])], method={method!r})
 def status(key):
     with open('/proc/self/status') as fh:
         for line in fh:
@@ -167,6 +213,34 @@ def peak_memory(name: str, method: str) -> dict:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+def format_targets(rows: dict[tuple[str, str], dict], methods: list[str]) -> list[str]:
+    """One line per target: its figure in this run (the ratios per input, the memory, the frame rate) and a verdict."""
+    lines = ["targets (issue 22; ratios to FGS in this run, wall time):"]
+    for method, (limit, inputs) in RATIO_TARGETS.items():
+        if method not in methods:
+            continue
+        got = [(name, rows[name, method]["ratio"]) for name in inputs if (name, method) in rows]
+        worst = max(r for _, r in got)
+        figures = ", ".join(f"{name.split(' (')[0].replace('Middlebury ', '')} {r:.2f}x" for name, r in got)
+        lines.append(f"  {method} <= {limit:g}x FGS: {figures} -> {'met' if worst <= limit else 'NOT met'} "
+                     f"(worst {worst:.2f}x)")
+    for method, limit in MEMORY_TARGETS.items():
+        got = [rows[key]["memory"] for key in rows if key[1] == method and rows[key].get("memory") is not None]
+        if got:
+            lines.append(f"  {method} peak memory <= {limit:g}x the output: worst {max(got):.1f}x -> "
+                         f"{'met' if max(got) <= limit else 'NOT met'}")
+    every = [(key, row["memory"]) for key, row in rows.items() if row.get("memory") is not None]
+    if every:
+        (name, method), worst = max(every, key=lambda kv: kv[1])
+        lines.append(f"  every method's peak memory < {MEMORY_ANY:g}x the output: worst {worst:.1f}x ({method}) -> "
+                     f"{'met' if worst < MEMORY_ANY else 'NOT met'}")
+    if (KINECT, "gbp-fast") in rows:
+        seconds = rows[KINECT, "gbp-fast"]["seconds"]
+        lines.append(f"  gbp-fast on {KINECT}: {1 / seconds:.1f} frames per second ({seconds * 1e3:.0f} ms median, "
+                     f"one process, {os.cpu_count()} CPUs)")
+    return lines
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=9)
@@ -175,43 +249,54 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--budget", type=float, default=30.0,
                     help="seconds per method and input that set a slow method's repeats (min 3)")
     ap.add_argument("--no-memory", action="store_true", help="skip the peak-memory measurement")
-    ap.add_argument("--no-startup", action="store_true", help="skip the start-up measurement")
+    ap.add_argument("--no-startup", action="store_true", help="skip the start-up and first-call measurements")
     args = ap.parse_args(argv)
     methods = list(depthrefine.METHODS) if args.methods == "all" else args.methods.split(",")
     unknown = sorted(set(methods) - set(depthrefine.METHODS))
     if unknown:
         ap.error(f"unknown methods {unknown}; choose of {sorted(depthrefine.METHODS)}")
+    load = os.getloadavg()
     print(f"depthrefine {depthrefine.__version__}, OpenCV {cv2.__version__}, {cv2.getNumThreads()} OpenCV threads, "
-          f"up to {args.repeats} alternated repeats; FGS peer lambda={FGS_LAMBDA}, sigma_color={FGS_SIGMA_COLOR}")
-    header = (f"{'input':44s} {'method':8s} {'ms':>8s} {'FGS ms':>8s} {'ratio':>6s} {'runs':>4s} "
+          f"{os.cpu_count()} CPUs, up to {args.repeats} alternated repeats; FGS peer lambda={FGS_LAMBDA}, "
+          f"sigma_color={FGS_SIGMA_COLOR}")
+    print(f"load average at the start: {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min)")
+    header = (f"{'input':48s} {'method':9s} {'ms':>8s} {'FGS ms':>8s} {'ratio':>6s} {'cpu':>6s} {'runs':>4s} "
               f"{'peak MB':>8s} {'x output':>9s}")
     print(header)
     print("-" * len(header))
     steps = {}
-    for name, load in INPUTS.items():
-        depth, rgb = load()
-        medians, peer = time_methods(depth, rgb, methods, args.repeats, args.budget)
-        for method, (seconds, runs) in medians.items():
-            mem = "" if args.no_memory else peak_memory(name, method)
-            mem_txt = "" if not mem else f"{mem['added'] / 2**20:8.1f} {mem['added'] / mem['out_bytes']:9.1f}"
-            print(f"{name:44s} {method:8s} {seconds * 1e3:8.1f} {peer * 1e3:8.1f} {seconds / peer:6.2f} {runs:4d} "
-                  f"{mem_txt}", flush=True)
-        if "thesis" in methods:
+    rows: dict[tuple[str, str], dict] = {}
+    for name, load_input in INPUTS.items():
+        depth, rgb = load_input()
+        medians, (peer, peer_cpu) = time_methods(depth, rgb, methods, args.repeats, args.budget)
+        for method, (seconds, runs, cpu) in medians.items():
+            mem = None if args.no_memory else peak_memory(name, method)
+            memory = None if mem is None else mem["added"] / mem["out_bytes"]
+            rows[name, method] = dict(seconds=seconds, ratio=seconds / peer, memory=memory)
+            mem_txt = "" if mem is None else f"{mem['added'] / 2**20:8.1f} {memory:9.1f}"
+            print(f"{name:48s} {method:9s} {seconds * 1e3:8.1f} {peer * 1e3:8.1f} {seconds / peer:6.2f} "
+                  f"{cpu / peer_cpu:6.2f} {runs:4d} {mem_txt}", flush=True)
+        if "thesis" in methods and name != KINECT:
             steps[name] = thesis_step_times(depth, rgb, args.repeats)
-    print("targets: thesis ratio <= 3.0 (refine / FGS), peak memory < 20x the output depth map's bytes")
-    if "gbp" in methods:
-        print("target (issue 9): gbp at most 1000 ms per 1376x1088 image (the Middlebury Art rows)")
+    print("(ratio: wall time / FGS's; cpu: CPU seconds of all threads / FGS's)")
     if steps:
         names = list(dict.fromkeys(step for per_step, _ in steps.values() for step in per_step))
         print()
         print("thesis steps, median ms (per-patch steps summed over patches):")
-        print(f"{'input':44s} " + " ".join(f"{n[:13]:>13s}" for n in names) + f" {'call':>8s}")
+        print(f"{'input':48s} " + " ".join(f"{n[:13]:>13s}" for n in names) + f" {'call':>8s}")
         for name, (per_step, total) in steps.items():
-            print(f"{name:44s} " + " ".join(f"{per_step.get(n, 0.0) * 1e3:13.1f}" for n in names)
+            print(f"{name:48s} " + " ".join(f"{per_step.get(n, 0.0) * 1e3:13.1f}" for n in names)
                   + f" {total * 1e3:8.1f}")
+    print()
+    print("\n".join(format_targets(rows, methods)))
     if not args.no_startup:
         print()
         print("\n".join(format_startup(measure_startup())))
+        print()
+        first = [m for m in ("gbp", "gbp-fast") if m in methods] or ["gbp"]
+        print("\n".join(format_first_call(measure_first_call(methods=tuple(first)))))
+    load = os.getloadavg()
+    print(f"\nload average at the end: {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min)")
     return 0
 
 

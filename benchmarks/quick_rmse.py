@@ -19,14 +19,14 @@ from pathlib import Path
 import numpy as np
 
 import depthrefine
-from depthrefine import RefineParams
+from depthrefine import ThesisParams
 from depthrefine.evaluate import rmse
 from depthrefine.io import read_depth, read_rgb
 
 SCENES = ("art", "books", "dolls", "laundry", "moebius")
 RUNS = (
     ("thesis", "thesis", None),
-    ("thesis, no correction", "thesis", RefineParams(correct_depth=False)),
+    ("thesis, no correction", "thesis", ThesisParams(correct_depth=False)),
     ("nearest", "nearest", None),
     ("bilinear", "bilinear", None),
 )

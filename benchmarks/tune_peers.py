@@ -17,6 +17,15 @@ Usage::
 
 It prints one line per combination (mean RMSE and edge RMSE over the six
 cases, and seconds per image) and the best per peer.
+
+``--protocol sensor`` tunes for one protocol that keeps its own peer parameters
+(``Protocol.method_params``; the simulated real sensors of
+``depthrefine.bench.sensor``) on that protocol's tuning scenes only (Dolls and
+Laundry under both sensor models, 12 cases at x4, x8, x16): the objective is
+the mean RMSE over them, and the script prints the ``SENSOR_PEER_PARAMS`` to
+store in ``bench/sensor.py``::
+
+    python benchmarks/tune_peers.py --protocol sensor --output sensor_tuning.json
 """
 
 from __future__ import annotations
@@ -52,18 +61,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--peers", default=",".join(GRIDS), help="comma-separated peers to tune")
     parser.add_argument("--scales", default="4,8,16")
     parser.add_argument("--output", help="write the full grid results as JSON here")
+    parser.add_argument("--protocol", help="tune for this protocol alone, on its own tuning scenes (e.g. sensor)")
+    parser.add_argument("--grid", help='JSON replacing the grids of some peers, e.g. \'{"fgs": {"lambda_lr": [256], '
+                                       '"sigma_color": [1, 2]}}\' (to go past a best value on the edge of a grid)')
     args = parser.parse_args(argv)
     scales = tuple(int(s) for s in args.scales.split(","))
-    cases = [c for p in TUNING_PROTOCOLS for c in load_cases(args.data, p, scales)
+    protocols = (args.protocol,) if args.protocol else TUNING_PROTOCOLS
+    cases = [c for p in protocols for c in load_cases(args.data, p, scales)
              if c.scene in tuned_on_scenes(p)]
-    if {c.protocol for c in cases} != set(TUNING_PROTOCOLS):
+    if {c.protocol for c in cases} != set(protocols):
         print(f"missing tuning scenes {TUNING_SCENES} under {args.data}", file=sys.stderr)
         return 2
     print(f"tuning on {sorted({(c.protocol, c.scene) for c in cases})} x {scales}: {len(cases)} cases", flush=True)
     results: dict[str, list[dict]] = {}
     best: dict[str, dict] = {}
+    grids = {name: (GRIDS[name][0], grid) for name, grid in json.loads(args.grid).items()} if args.grid else {}
     for name in args.peers.split(","):
-        params_type, grid = GRIDS[name]
+        params_type, grid = grids.get(name, GRIDS[name])
         results[name] = []
         for values in itertools.product(*grid.values()):
             fields = dict(zip(grid, values))
@@ -73,13 +87,13 @@ def main(argv: list[str] | None = None) -> int:
             entry = {
                 "params": fields,
                 "objective": mean_or_nan(mean_or_nan(r.rmse for r in rows if r.protocol == p)
-                                         for p in TUNING_PROTOCOLS),
+                                         for p in protocols),
                 "rmse_by_protocol": {p: mean_or_nan(r.rmse for r in rows if r.protocol == p)
-                                     for p in TUNING_PROTOCOLS},
+                                     for p in protocols},
                 "rmse": mean_or_nan(r.rmse for r in rows),
                 "edge_rmse": mean_or_nan(r.edge_rmse for r in rows),
                 "rmse_by_scale": {f"{p} x{s}": mean_or_nan(r.rmse for r in rows if r.scale == s and r.protocol == p)
-                                  for p in TUNING_PROTOCOLS for s in scales},
+                                  for p in protocols for s in scales},
                 "median_seconds": statistics.median(r.seconds for r in rows),
             }
             results[name].append(entry)
@@ -89,6 +103,9 @@ def main(argv: list[str] | None = None) -> int:
                   f"({time.perf_counter() - t0:.1f} s)", flush=True)
         best[name] = min(results[name], key=lambda e: e["objective"])
         print(f"BEST {name}: {best[name]['params']} objective {best[name]['objective']:.4f}", flush=True)
+    if args.protocol:
+        print(f"protocol {args.protocol}: method_params = "
+              + json.dumps({name: entry["params"] for name, entry in best.items()}), flush=True)
     if args.output:
         Path(args.output).write_text(json.dumps({"cases": [c.key for c in cases], "results": results,
                                                  "best": best}, indent=2) + "\n", encoding="utf-8")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,10 @@ import pytest
 from depthrefine.bench.synthetic import make_scene, make_two_planes
 
 #: ../shared/data beside the repository (team rule); tests skip when it is missing.
-SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+#: ``DEPTHREFINE_TEST_SHARED_DATA=DIR`` points the tests elsewhere, e.g. at an empty folder to see
+#: what a user's clone without the data runs: ``DEPTHREFINE_TEST_SHARED_DATA=$(mktemp -d) pytest -rs``.
+SHARED_DATA = (Path(os.environ["DEPTHREFINE_TEST_SHARED_DATA"]) if os.environ.get("DEPTHREFINE_TEST_SHARED_DATA")
+               else Path(__file__).resolve().parents[1].parent / "shared" / "data")
 
 
 def shared_data_path(*parts: str) -> Path:

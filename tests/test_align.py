@@ -454,3 +454,39 @@ def test_chain_without_undistortion_takes_both_images_as_undistorted():
     valid = np.isfinite(pair.depth_lr)
     good = valid & (np.abs(pair.depth_lr / 1000 - truth) < 0.01 * truth)
     assert (good | edge_zone(front, 1))[valid].all() and valid.mean() > 0.95
+
+
+# ----------------------------------------------------------------------------
+# A ratio below 1.5 (the Azure Kinect's 1.21): a grid at the depth resolution, upsampled by the method
+# ----------------------------------------------------------------------------
+
+
+def _rig_ratio_1_2() -> StereoRig:
+    """The depth camera of RIG beside a color camera with 1.2 times its focal length and size."""
+    color = CameraModel(np.array([[90.0, 0, 57.5], [0, 90.6, 42.5], [0, 0, 1]]), np.zeros(5), (115, 86))
+    return StereoRig(DEPTH_CAM.without_distortion(), color, RIG_R, RIG_T)
+
+
+def test_a_ratio_below_1_5_renders_at_the_depth_resolution_and_the_method_upsamples_x2():
+    from depthrefine.rig.chain import AlignSettings, align_pair, refine_pair, upsampling_grid
+
+    rig = _rig_ratio_1_2()
+    s, grid = reproject_camera(rig)
+    assert s == pytest.approx(1.2) and grid.image_size == (96, 72)  # not rounded to 1 (115x86)
+    assert reproject_camera(rig, factor=2)[1].image_size == (58, 43)
+    z, front = render_depth(rig.depth_camera, distorted=False)
+    depth = np.floor(z * 1000 + 0.5).astype(np.uint16)
+    color_z, color_front = render_depth(rig.color_camera, RIG_R, RIG_T, distorted=False)
+    rgb = np.where(color_front[..., None], 60, 200).astype(np.uint8).repeat(3, axis=2)
+    pair = align_pair(depth, rgb, rig, settings=AlignSettings(depth_units=0.001, undistort_depth=False))
+    assert pair.depth_lr.shape == (72, 96) and "s = 1.2" in pair.notes[-1]
+    assert upsampling_grid(pair.depth_lr.shape, rgb.shape) == (2, (144, 192))
+    refined, note = refine_pair(pair.depth_lr, pair.rgb_hr, method="bilinear")
+    assert refined.shape == (86, 115) and "upsampled x2 onto a 192x144 grid" in note
+    good = np.isfinite(refined) & (np.abs(refined / 1000 - color_z) < 0.01 * color_z)
+    assert good[~edge_zone(color_front, 3)].mean() > 0.97
+    with pytest.raises(ValueError, match="factor must be a number >= 1"):
+        reproject_camera(rig, factor=0.5)
+    with pytest.raises(ValueError, match="factor must be a number >= 1"):
+        AlignSettings(factor=0.9)
+    assert AlignSettings(factor=1.21).factor == 1.21

@@ -33,11 +33,11 @@ import pytest
 import tifffile
 
 import depthrefine
-from depthrefine import RefineParams, cli
+from depthrefine import ThesisParams, cli
 from depthrefine import _validate
 from depthrefine.io import _images as images
-from depthrefine.io import read_depth, read_mapping, read_patch_layout, read_rgb, sample_folder
-from depthrefine.methods.thesis.params import params_from_mapping
+from depthrefine.io import fetch_dataset, read_depth, read_mapping, read_patch_layout, read_rgb, sample_folder
+from depthrefine.methods.params import params_from_mapping
 
 # ----------------------------------------------------------------------------
 # The scene every case starts from: 16 x 20 depth, 64 x 80 color (x4)
@@ -205,7 +205,7 @@ def _params_case(ws: Workspace, text: str, expect: list[str], *, name="params.to
 
     def lib():
         data = read_mapping(path, what="parameter") if mapping is None else mapping
-        return params_from_mapping(RefineParams, data, source=f"parameter file {path}")
+        return params_from_mapping(ThesisParams, data, source=f"parameter file {path}")
 
     return Case(ws.refine(None, None, "--params", path), [str(path), *expect], lib=lib)
 
@@ -214,7 +214,7 @@ def _patch_case(ws: Workspace, layout, expect: list[str], *, in_refine: bool) ->
     path = ws.file("patches.json", json.dumps(layout) if not isinstance(layout, str) else layout)
     if in_refine:  # the layout reads fine but does not fit the image: the library says so
         rects = tuple(tuple(r) for r in layout)
-        lib = lambda: depthrefine.refine(_depth_u8(), _color_u8(), params=RefineParams(patch_layout=rects), method="thesis")  # noqa: E731
+        lib = lambda: depthrefine.refine(_depth_u8(), _color_u8(), params=ThesisParams(patch_layout=rects), method="thesis")  # noqa: E731
         return Case(ws.refine(None, None, "--patch-file", path), ["--patch-file", *expect], lib=lib)
     return Case(ws.refine(None, None, "--patch-file", path), [str(path), *expect],
                 lib=lambda: read_patch_layout(path))
@@ -258,7 +258,9 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
                                             ["shape (4, 5, 2)", "one channel"]),
     "depth empty npy": lambda ws: _depth_case(ws, "none.npy", np.ones((0, 0), np.float32),
                                               ["is empty", "save the depth map again"]),
-    "depth is the color image": lambda ws: _depth_case(ws, "rgb.png", RGB, ["shape (64, 80, 3)", "Is this the color image?"]),
+    # another color image (the same bytes as COLOR are refused before reading: see "refine: DEPTH is COLOR")
+    "depth is the color image": lambda ws: _depth_case(ws, "rgb.png", RGB // 2,
+                                                       ["shape (64, 80, 3)", "Is this the color image?"]),
     "color not an image": lambda ws: _color_case(ws, "photo.jpg", b"\xff\xd8 definitely not a JPEG",
                                                  ["cannot be read", "save it again"]),
     "color truncated jpeg": lambda ws: _color_case(ws, "cut.jpg", _jpeg_bytes(RGB)[:700],
@@ -316,13 +318,13 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
         ["'nearest' takes no parameters", "drop n_clusters"]),
     # --- options
     "clusters 0": lambda ws: Case(ws.refine(None, None, "--clusters", "0"), ["--clusters", "must be a whole number >= 1"],
-                                  lib=lambda: RefineParams(n_clusters=0)),
+                                  lib=lambda: ThesisParams(n_clusters=0)),
     "clusters negative": lambda ws: Case(ws.refine(None, None, "--clusters", "-3"), ["--clusters", "'-3'"],
-                                         lib=lambda: RefineParams(n_clusters=-3)),
+                                         lib=lambda: ThesisParams(n_clusters=-3)),
     "clusters not a number": lambda ws: Case(ws.refine(None, None, "--clusters", "four"), ["--clusters", "'four'"],
-                                             lib=lambda: RefineParams(n_clusters="four")),
+                                             lib=lambda: ThesisParams(n_clusters="four")),
     "patches 0x4": lambda ws: Case(ws.refine(None, None, "--patches", "0x4"), ["--patches", "COLSxROWS", "'0x4'"],
-                                   lib=lambda: RefineParams(patches=(0, 4))),
+                                   lib=lambda: ThesisParams(patches=(0, 4))),
     "unknown method": lambda ws: Case(ws.refine(None, None, "--method", "magic"), ["--method", "'magic'", "choose from"],
                                       lib=lambda: depthrefine.refine(_depth_u8(), RGB, method="magic")),
     "missing -o": lambda ws: Case(["refine", str(ws.depth), str(ws.color)], ["-o/--output", "required"]),
@@ -512,7 +514,7 @@ def test_memory_guard_refuses_up_front(tmp_path, capsys, monkeypatch):
     with pytest.raises(ValueError, match=r"rgb_hr is 80x64 = 5,120 pixels; processing it needs about 1.0 MiB"):
         depthrefine.refine(_depth_u8(), RGB, method="thesis")
     with pytest.raises(ValueError, match="needs about"):
-        depthrefine.refine_with_intermediates(_depth_u8(), RGB)
+        depthrefine.methods.thesis.refine_with_intermediates(_depth_u8(), RGB)
 
 
 def test_memory_guard_passes_normal_images():
@@ -542,8 +544,8 @@ rng = np.random.default_rng(0)
 h, w, s = 128, 128, 8
 depth = rng.uniform(0.5, 5, (h, w)).astype(np.float32)
 rgb = np.repeat(np.repeat(rng.integers(0, 255, (h // 4, w // 4, 3)).astype(np.uint8), 4 * s, 0), 4 * s, 1)
-params = depthrefine.RefineParams(patches=(1, 1))
-depthrefine.refine_with_intermediates(depth[:16, :16], np.ascontiguousarray(rgb[:16 * s, :16 * s]), params=params)
+params = depthrefine.ThesisParams(patches=(1, 1))
+depthrefine.methods.thesis.refine_with_intermediates(depth[:16, :16], np.ascontiguousarray(rgb[:16 * s, :16 * s]), params=params)
 import psutil
 def high_water_mark():
     with open("/proc/self/status") as status:
@@ -555,7 +557,7 @@ try:  # reset the peak, so that an earlier one (numba compiling kernels in the w
 except OSError:
     reset = False
 base = psutil.Process().memory_info().rss
-depthrefine.refine_with_intermediates(depth, rgb, params=params)
+depthrefine.methods.thesis.refine_with_intermediates(depth, rgb, params=params)
 peak = high_water_mark() if reset else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 print((peak - base) / rgb.shape[0] / rgb.shape[1])
 """
@@ -612,7 +614,7 @@ def test_holes_filled_from_the_same_color_cluster():
     holes = depth.copy()
     holes[3:7, 8:10] = 0  # left region, touching the edge
     holes[9:12, 10:13] = 0  # right region, touching the edge
-    out = depthrefine.refine(holes, rgb, params=RefineParams(patches=(1, 1), n_clusters=2), method="thesis")
+    out = depthrefine.refine(holes, rgb, params=ThesisParams(patches=(1, 1), n_clusters=2), method="thesis")
     assert not np.isnan(out).any()
     np.testing.assert_array_equal(out[:, :40], 60)
     np.testing.assert_array_equal(out[:, 40:], 180)
@@ -624,7 +626,7 @@ def test_cluster_without_valid_sample_takes_nearest_valid():
     """A whole region without depth (its cluster caught no valid sample): nearest valid sample, no NaN."""
     depth, rgb = _two_region_scene()
     depth[:, 10:] = 0
-    out = depthrefine.refine(depth, rgb, params=RefineParams(patches=(2, 2), n_clusters=2), method="thesis")
+    out = depthrefine.refine(depth, rgb, params=ThesisParams(patches=(2, 2), n_clusters=2), method="thesis")
     assert out.dtype == np.float32 and not np.isnan(out).any()
     np.testing.assert_array_equal(out, 60)
 
@@ -648,7 +650,7 @@ def test_invalid_float_values_are_holes():
         out = depthrefine.refine(d, rgb, method=method)
         assert np.isfinite(out).all(), method
         assert out.min() >= 60 - 1e-3 and out.max() <= 180 + 1e-3, method
-    thesis = depthrefine.refine(d, rgb, params=RefineParams(patches=(1, 1), n_clusters=2), method="thesis")
+    thesis = depthrefine.refine(d, rgb, params=ThesisParams(patches=(1, 1), n_clusters=2), method="thesis")
     np.testing.assert_array_equal(thesis[:, :40], 60)
     np.testing.assert_array_equal(thesis[:, 40:], 180)
 
@@ -663,7 +665,7 @@ def test_saturated_code_valid_by_default_invalid_on_request(tmp_path):
     marked = read_depth(path, saturated_invalid=True)
     assert marked.max() == 18000 and (marked == 0).sum() == 4
     assert read_depth(path).max() == 65535  # the file is not changed by reading
-    params = RefineParams(patches=(1, 1), n_clusters=2)
+    params = ThesisParams(patches=(1, 1), n_clusters=2)
     out = depthrefine.refine(marked, _color_u8(), params=params, method="thesis")
     np.testing.assert_array_equal(out[:, :40], 6000)
     np.testing.assert_array_equal(out[:, 40:], 18000)
@@ -781,6 +783,21 @@ OTHER_CASES: dict[str, Callable[[Workspace], Case]] = {
     "board: unknown dictionary": lambda ws: Case(
         ["board", "--board", "charuco:5x7", "--square", "30mm", "--marker", "22mm", "--dictionary", "DICT_5X5",
          "-o", str(ws.out / "b.png")], ["--dictionary", "unknown ArUco dictionary 'DICT_5X5'"]),
+    # refine, show, run: DEPTH and COLOR must be two files (issue 24)
+    "refine: DEPTH is COLOR": lambda ws: Case(ws.refine(ws.color, ws.color), ["DEPTH and COLOR are the same file"]),
+    "refine: COLOR has DEPTH's bytes": lambda ws: Case(
+        ws.refine(ws.depth, ws.file("copy.png", ws.depth.read_bytes())), ["copy.png", "identical bytes"]),
+    "refine: --full without --preview": lambda ws: Case(ws.refine(None, None, "--full"), ["--full", "--preview PNG"]),
+    "show: crop outside the map": lambda ws: Case(
+        ["show", str(ws.depth), "-o", str(ws.out / "s.png"), "--crop", "0,0,1000,10"], ["--crop", "must lie inside"]),
+    # data
+    "data: verify a folder without data sets": lambda ws: Case(["data", "verify", str(ws.inputs)],
+                                                               [str(ws.inputs), "none of the data set folders"]),
+    "data: fetch a data set without an open licence": lambda ws: Case(
+        ["data", "fetch", "lu6", "--to", str(ws.out / "d")], ["lu6 is not downloaded", "no licence"],
+        lib=lambda: fetch_dataset("lu6", ws.out / "d")),
+    "data: unknown data set": lambda ws: Case(["data", "fetch", "nope", "--to", str(ws.out / "d")],
+                                              ["unknown data set 'nope'"]),
     # show
     "show: depth missing": lambda ws: Case(["show", str(ws.inputs / "none.png"), "-o", str(ws.out / "s.png")],
                                            ["none.png", "does not exist"]),

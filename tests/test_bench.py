@@ -18,7 +18,7 @@ from depthrefine.bench import (
 from depthrefine.cli import main
 from depthrefine.evaluate import score
 from depthrefine.bench import load_cases
-from depthrefine.io import InputFileError
+from depthrefine.io import InputFileError, sample_folder
 
 from conftest import shared_data_path as _shared
 
@@ -85,18 +85,30 @@ def test_run_benchmark_rows_times_and_kept_results():
         run_benchmark([case], ["nope"])
 
 
-@pytest.mark.shared_data
-def test_protocols_reproduce_the_readme_sanity_baselines():
-    # The READMEs give plain PIL-bicubic numbers computed with each protocol:
-    # Park art x4 5.60 (middlebury2005_park/README.md).
-    cases = load_cases(_shared("middlebury2005_park"), "park", (4,))
+def _shipped_park(root: Path, scales=(4,)) -> Path:
+    """A data root holding middlebury2005_park/art/ from the Art scene shipped in the package (the same bytes)."""
+    art = root / "middlebury2005_park" / "art"
+    art.mkdir(parents=True)
+    for name in ("color.png", "gt_disp.png", *(f"noisy_x{s}.png" for s in scales)):
+        shutil.copy(sample_folder("art") / name, art / name)
+    return root
+
+
+def test_park_protocol_reproduces_the_readme_sanity_baseline(tmp_path):
+    # The README gives plain PIL-bicubic numbers computed with each protocol:
+    # Park art x4 5.60 (middlebury2005_park/README.md); the shipped Art is the same files.
+    cases = load_cases(_shipped_park(tmp_path) / "middlebury2005_park", "park", (4,))
     art = next(c for c in cases if c.scene == "art")
     assert art.depth_lr.dtype == np.uint8 and art.depth_gt.shape == (1088, 1376)
     assert score(_pil_bicubic_up(art.depth_lr, art.depth_gt.shape), art.depth_gt).rmse == pytest.approx(5.60, abs=0.01)
+
+
+@pytest.mark.shared_data
+def test_middlebury30_protocol_reproduces_the_readme_sanity_baselines():
     # middlebury_lu30, 28 shared images: the README's 2.212 / 3.854 / 6.144 are without a border
-    # crop; the protocol's 6-px crop gives 2.2259 / 3.8670 / 6.1051 (see docs/bench.md).
-    cases = load_cases(_shared(), "middlebury30", (4, 8, 16))
-    for scale, readme, cropped in ((4, 2.212, 2.2259), (8, 3.854, 3.8670), (16, 6.144, 6.1051)):
+    # crop; the protocol's 6-px crop gives 2.2257 / 3.8668 / 6.1046 (benchmarks/sanity_baselines.py, docs/bench.md).
+    cases = load_cases(_shared("middlebury_lu30"), "middlebury30", (4, 8, 16))
+    for scale, readme, cropped in ((4, 2.212, 2.2257), (8, 3.854, 3.8668), (16, 6.144, 6.1046)):
         mine = [c for c in cases if c.scale == scale]
         assert len(mine) == 28 and all(c.border == LU_BORDER == 6 for c in mine)
         ups = [_pil_bicubic_up(c.depth_lr, c.depth_gt.shape) for c in mine]
@@ -119,14 +131,17 @@ def test_park_tuning_scenes_are_left_out_of_middlebury30_too():
     assert "Middlebury_14" not in tuned_on_scenes("middlebury30")  # left out, but not tuned on
 
 
-@pytest.mark.shared_data
 def test_bench_cli_on_one_scene_at_one_scale(tmp_path, capsys):
-    lu = _shared("lu6")
+    # One scene laid out as the lu set: the shipped Art's color and ground truth at half size (688x544,
+    # about the Lu images' 640x480), named as the set names its files.
     data = tmp_path / "data" / "lu6"
     (data / "RGB").mkdir(parents=True)
     (data / "Depth").mkdir()
-    shutil.copy(lu / "RGB" / "RGBD_01_ouput_color.png", data / "RGB")
-    shutil.copy(lu / "Depth" / "RGBD_01_output_depth.png", data / "Depth")
+    color = cv2.imread(str(sample_folder("art") / "color.png"), cv2.IMREAD_COLOR)
+    gt = cv2.imread(str(sample_folder("art") / "gt_disp.png"), cv2.IMREAD_UNCHANGED)
+    half = cv2.resize(color, (688, 544), interpolation=cv2.INTER_AREA)
+    cv2.imwrite(str(data / "RGB" / "RGBD_01_ouput_color.png"), half)
+    cv2.imwrite(str(data / "Depth" / "RGBD_01_output_depth.png"), gt[::2, ::2])
     out = tmp_path / "report"
     status = main(["bench", "--data", str(tmp_path / "data"), "--protocol", "all", "--methods",
                    "thesis,bilinear,guided", "--scales", "16", "--report", str(out)])
@@ -176,7 +191,7 @@ def test_bench_cli_bad_arguments_exit_2(tmp_path, capsys):
 def test_bench_cli_default_data_missing_is_a_clear_error(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     monkeypatch.delenv("DEPTHREFINE_DATA", raising=False)
-    monkeypatch.setattr("depthrefine.cli.bench.checkout_data_dir", lambda: tmp_path / "shared" / "data")
+    monkeypatch.setattr("depthrefine.bench.suite.checkout_data_dir", lambda: tmp_path / "shared" / "data")
     assert main(["bench", "--protocol", "lu"]) == 2
     err = capsys.readouterr().err
     assert "pass --data DIR" in err and "DEPTHREFINE_DATA" in err and str(tmp_path / "shared" / "data") in err
@@ -187,7 +202,7 @@ def test_bench_cli_default_data_missing_is_a_clear_error(tmp_path, monkeypatch, 
 
 def test_bench_cli_default_data_order(tmp_path, monkeypatch):
     """--data, else $DEPTHREFINE_DATA, else ../shared/data beside the source checkout."""
-    from depthrefine.cli.bench import _data_dir, checkout_data_dir
+    from depthrefine.bench.suite import checkout_data_dir, find_data_folder as _data_dir
 
     import depthrefine
 
@@ -197,7 +212,7 @@ def test_bench_cli_default_data_order(tmp_path, monkeypatch):
     assert _data_dir(None) == tmp_path
     assert _data_dir(str(tmp_path / ".")) == tmp_path / "."
     monkeypatch.delenv("DEPTHREFINE_DATA")
-    monkeypatch.setattr("depthrefine.cli.bench.checkout_data_dir", lambda: tmp_path)
+    monkeypatch.setattr("depthrefine.bench.suite.checkout_data_dir", lambda: tmp_path)
     assert _data_dir(None) == tmp_path
 
 

@@ -13,7 +13,7 @@ import pytest
 import tifffile
 
 import depthrefine
-from depthrefine import METHODS, RefineParams
+from depthrefine import METHODS, ThesisParams
 from depthrefine.cli import main
 from depthrefine.io import depth_to_dtype
 from depthrefine.bench.synthetic import make_scene
@@ -102,9 +102,9 @@ def test_every_registered_method(files, tmp_path, method):
 @pytest.mark.parametrize(
     "args, params",
     [
-        (["--patches", "2x3"], RefineParams(patches=(2, 3))),
-        (["--clusters", "2"], RefineParams(n_clusters=2)),
-        (["--patches", "1x1", "--clusters", "3"], RefineParams(patches=(1, 1), n_clusters=3)),
+        (["--patches", "2x3"], ThesisParams(patches=(2, 3))),
+        (["--clusters", "2"], ThesisParams(n_clusters=2)),
+        (["--patches", "1x1", "--clusters", "3"], ThesisParams(patches=(1, 1), n_clusters=3)),
     ],
 )
 def test_patches_and_clusters(files, tmp_path, args, params):
@@ -124,7 +124,7 @@ def test_patch_file(files, tmp_path):
     patch_file.write_text(json.dumps(layout), encoding="utf-8")
     out = tmp_path / "out.png"
     assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--patch-file", str(patch_file)]) == 0
-    params = RefineParams(patch_layout=((0, 0, 48, 64), (48, 0, 48, 32), (48, 32, 48, 32)))
+    params = ThesisParams(patch_layout=((0, 0, 48, 64), (48, 0, 48, 32), (48, 32, 48, 32)))
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), expected(SCENE.depth_lr, method="thesis", params=params))
 
 
@@ -146,7 +146,7 @@ def test_params_toml(files, tmp_path):
                     encoding="utf-8")
     out = tmp_path / "out.png"
     assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--params", str(toml)]) == 0
-    params = RefineParams(patches=(2, 2), n_clusters=3, correct_depth=False, tolerance_levels=3.0)
+    params = ThesisParams(patches=(2, 2), n_clusters=3, correct_depth=False, tolerance_levels=3.0)
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), expected(SCENE.depth_lr, method="thesis", params=params))
 
 
@@ -157,7 +157,7 @@ def test_options_override_the_params_file(files, tmp_path):
     out = tmp_path / "out.png"
     assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "thesis", "--params", str(toml), "--clusters", "2"]) == 0
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED),
-                                  expected(SCENE.depth_lr, method="thesis", params=RefineParams(n_clusters=2)))
+                                  expected(SCENE.depth_lr, method="thesis", params=ThesisParams(n_clusters=2)))
 
 
 def test_params_toml_with_an_unknown_key_is_exit_2(files, tmp_path, capsys):
@@ -196,7 +196,7 @@ def test_save_intermediate_writes_the_pictures(files, tmp_path):
         assert npz["labels"].shape == (64, 96) and npz["patches"].shape == (4, 4)
     # The result is the same as without --save-intermediate.
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED),
-                                  expected(SCENE.depth_lr, method="thesis", params=RefineParams(patches=(2, 2))))
+                                  expected(SCENE.depth_lr, method="thesis", params=ThesisParams(patches=(2, 2))))
 
 
 def test_save_intermediate_for_a_baseline_writes_the_result_pictures(files, tmp_path):

@@ -10,6 +10,7 @@ the color camera's (undistorted) view.
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import cv2
@@ -349,3 +350,112 @@ def test_run_with_a_non_integer_ratio_applies_the_scale_step(captures, tmp_path,
     assert code == 0, err
     assert "non-integer ratio 7.39" in err and "depth enlarged x7, color resized x0.946" in err
     assert read_depth(out).shape == (533, 710)
+
+
+# ----------------------------------------------------------------------------
+# Issue 24: calibration quality gates, plausible units, run --preview
+# ----------------------------------------------------------------------------
+
+
+def test_calibrate_prints_view_errors_warns_on_few_views_and_writes_the_report(tmp_path, capsys):
+    paths = _write_images(tmp_path / "ir", depth_views()[:6], "ir")
+    out, report = tmp_path / "camera.json", tmp_path / "report"
+    assert main(["calibrate", *paths, "--board", "8x6", "--square", SQUARE_ARG, "-o", str(out),
+                 "--report", str(report)]) == 0
+    err = capsys.readouterr().err
+    assert "warning: only 6 views for the plain lens model" in err and "about 15" in err
+    for path in paths:  # one line per view: its RMS error and corners
+        assert re.search(rf"{re.escape(path)}\s+0\.\d{{3}} px  \(48 corners\)", err), err
+    data = json.loads(out.read_text())
+    assert len(data["view_rms"]) == 6 and data["lens_model"] == "plain"
+    assert max(data["view_rms"]) < 0.3 and data["rms"] <= max(data["view_rms"])
+    views = (report / "views.csv").read_text().splitlines()
+    assert views[0] == "image,rms_px,corners" and len(views) == 7 and views[1].startswith(paths[0])
+    picture = read_rgb(report / "coverage.png")
+    assert picture.shape[1] > 800 and picture.std() > 10
+    # the k3 model too (it needs about 20)
+    assert main(["calibrate", *paths, "--board", "8x6", "--square", SQUARE_ARG, "-o", str(out), "--overwrite",
+                 "--k3"]) == 0
+    err = capsys.readouterr().err
+    assert "only 6 views for the k3 lens model (k1, k2, p1, p2, k3); a stable fit needs about 20" in err
+
+
+def test_calibration_over_max_rms_is_refused_in_one_line_and_writes_nothing(tmp_path, capsys):
+    paths = _write_images(tmp_path / "ir", depth_views()[:4], "ir")
+    out, report = tmp_path / "camera.json", tmp_path / "report"
+    assert main(["calibrate", *paths, "--board", "8x6", "--square", SQUARE_ARG, "-o", str(out),
+                 "--report", str(report), "--max-rms", "0.01"]) == 2
+    err = capsys.readouterr().err
+    assert "calibration refused: RMS reprojection error 0.1" in err and "over --max-rms 0.01 px" in err
+    assert re.search(r"worst views: \S+ir_\d\d\.png 0\.\d\d px", err), err
+    assert len(err.strip().splitlines()) == 1 and not out.exists() and not report.exists()
+    color = _write_images(tmp_path / "rgb", color_views()[:4], "rgb")
+    stereo = ["calibrate-stereo", "--depth-images", *paths, "--color-images", *color, "--board", "8x6",
+              "--square", SQUARE_ARG, "-o", str(out)]
+    assert main(stereo + ["--max-rms", "0.01"]) == 2
+    err = capsys.readouterr().err
+    assert "the depth camera's calibration refused" in err and len(err.strip().splitlines()) == 1
+    depth_camera, color_camera = tmp_path / "d.json", tmp_path / "c.json"
+    assert main(["calibrate", *paths, "--board", "8x6", "--square", SQUARE_ARG, "-o", str(depth_camera)]) == 0
+    all_color = _write_images(tmp_path / "rgb_all", color_views(), "rgb")
+    assert main(["calibrate", *all_color, "--board", "8x6", "--square", SQUARE_ARG, "-o", str(color_camera)]) == 0
+    capsys.readouterr()
+    # both cameras known: only the pair's own fit is checked
+    known = ["--depth-camera", str(depth_camera), "--color-camera", str(color_camera)]
+    assert main(stereo + known + ["--max-rms", "0.01"]) == 2
+    err = capsys.readouterr().err
+    assert "stereo calibration refused" in err and "worst pairs: ir_" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+    assert main(stereo + known) == 0
+    err = capsys.readouterr().err
+    assert re.search(r"ir_00\.png \+ rgb_00\.png  depth  0\.\d{3} px, color  0\.\d{3} px", err), err
+    assert len(json.loads(out.read_text())["pair_rms"]) >= 3
+
+
+def test_implausible_depth_units_are_a_warning_naming_the_units_and_the_median(captures, tmp_path, capsys):
+    out = tmp_path / "r.png"
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
+                 "--depth-units", "1", "-o", str(out), "--refine-method", "bilinear"]) == 0
+    err = capsys.readouterr().err
+    # the background plane is 2000 mm away
+    assert "depthrefine run: warning: depth units 1 m per stored value give a median depth of 2 km, outside the " \
+        "5 cm .. 50 m" in err and "give --depth-units 0.001" in err, err
+    aligned = tmp_path / "a.png"
+    assert main(["align", str(captures["depth"]), "--rig", str(captures["rig"]), "--depth-units", "1e-6",
+                 "-o", str(aligned)]) == 0
+    err = capsys.readouterr().err
+    assert "depthrefine align: warning: depth units 1e-06 m per stored value give a median depth of 2 mm, " in err
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]),
+                 "--depth-units", "0.001", "-o", str(out), "--overwrite", "--refine-method", "bilinear"]) == 0
+    assert "warning" not in capsys.readouterr().err
+
+
+def test_run_preview_and_same_file_refused(captures, tmp_path, capsys):
+    out, preview = tmp_path / "r.png", tmp_path / "p.png"
+    assert main(["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["settings"]),
+                 "-o", str(out), "--preview", str(preview), "--crop", "300,200,100,80", "--scale", "3",
+                 "--refine-method", "bilinear"]) == 0
+    assert f"wrote {preview}" in capsys.readouterr().err
+    picture = read_rgb(preview)
+    assert 600 < picture.shape[1] < 800 and 240 < picture.shape[0] < 360
+    for command in (["run", str(captures["depth"]), str(captures["depth"]), "--rig", str(captures["settings"]),
+                     "-o", str(tmp_path / "x.png")],
+                    ["export-ply", str(captures["color"]), str(captures["color"]), "--rig",
+                     str(captures["settings"]), "-o", str(tmp_path / "x.ply")]):
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert "DEPTH and COLOR are the same file" in err and len(err.strip().splitlines()) == 1
+
+
+def test_run_save_color_and_factor_options(captures, tmp_path, capsys):
+    common = ["run", str(captures["depth"]), str(captures["color"]), "--rig", str(captures["settings"]),
+              "--refine-method", "bilinear"]
+    out, color = tmp_path / "refined.png", tmp_path / "color.png"
+    assert main([*common, "-o", str(out), "--save-color", str(color), "--factor", "7.5"]) == 0, capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "s = 7.5" in err and "90x67 grid" in err
+    assert read_depth(out).shape == (504, 672) and cv2.imread(str(color)).shape == (504, 672, 3)
+    for bad, message in ((["--save-color", str(tmp_path / "c.bmp")], "unknown format '.bmp'"),
+                         (["--factor", "0.5"], "expected a number >= 1")):
+        assert main([*common, "-o", str(tmp_path / "x.png"), *bad]) == 2
+        assert message in capsys.readouterr().err and not (tmp_path / "x.png").exists()

@@ -12,7 +12,7 @@ import tifffile
 import depthrefine
 from depthrefine.bench.synthetic import make_scene
 from depthrefine.cli import build_parser, main
-from depthrefine.cli.demo import PEERS, demo_panels
+from depthrefine.bench.demo import PEERS, demo_panels
 from depthrefine.io import read_depth, scale_to_dtype
 
 SCENE = make_scene((48, 64), 4, n_objects=2, seed=11, color_noise_std=3.0)
@@ -144,7 +144,7 @@ def test_patches_are_columns_first_in_every_command():
     for command in (["refine", "d.png", "c.png", "-o", "o.png"], RUN):
         args = _parse(command + ["--patches", "6x4"])
         assert args.patches == (6, 4)
-    params = depthrefine.RefineParams(patches=(6, 4))
+    params = depthrefine.ThesisParams(patches=(6, 4))
     assert params.patches == (6, 4)    # (across, down), as --board
     text = build_parser()._subparsers._group_actions[0].choices["refine"].format_help()
     assert "COLSxROWS" in text and "columns first" in text
@@ -166,3 +166,80 @@ def test_demo_panels_pick_the_best_peer_and_name_the_default():
     panels, _ = demo_panels(results, scores, scale=8, default="other")
     assert [t for t, _ in panels][3:5] == ["thesis method\nRMSE 15.00", "other (the default method)\nRMSE 4.00"]
     assert depthrefine.refine.__kwdefaults__["method"] == depthrefine.methods.registry.DEFAULT_METHOD
+
+
+# ----------------------------------------------------------------------------
+# Issue 24: pictures at a chosen crop and scale; DEPTH and COLOR must differ
+# ----------------------------------------------------------------------------
+
+
+def _size(path) -> tuple[int, int]:
+    rows, cols = _picture(path).shape[:2]
+    return cols, rows
+
+
+def test_show_crop_and_scale_place_the_pixels_exactly(files, tmp_path, capsys):
+    """--crop X,Y,W,H at --scale F: each panel is W*F x H*F pixels holding the window's pixels (nearest)."""
+    out = tmp_path / "crop.png"
+    assert main(["show", str(files["16"]), "-o", str(out), "--crop", "2,3,8,5", "--scale", "10",
+                 "--range", "0,20000"]) == 0, capsys.readouterr().err
+    picture = cv2.cvtColor(_picture(out), cv2.COLOR_BGR2RGB)
+    from depthrefine.viz import colorize_depth
+
+    window = read_depth(files["16"]).astype(np.float32)[3:8, 2:10]
+    colors = colorize_depth(window, limits=(0, 20000))
+    # find the 80 x 50 panel: its top-left pixel block has the window's first color
+    rows, cols = np.nonzero(np.all(np.abs(picture.astype(int) - colors[0, 0]) <= 2, axis=2))
+    top, left = rows.min(), cols.min()
+    panel = picture[top:top + 50, left:left + 80].astype(int)
+    assert panel.shape == (50, 80, 3)
+    block_means = panel.reshape(5, 10, 8, 10, 3).mean(axis=(1, 3))
+    assert np.abs(block_means - colors).max() <= 2  # matplotlib's viridis vs OpenCV's: within 2 levels
+    full = tmp_path / "full.png"
+    assert main(["show", str(files["16"]), str(files["color"]), "-o", str(full), "--full"]) == 0
+    cropped = tmp_path / "cropped.png"
+    assert main(["show", str(files["16"]), str(files["color"]), "-o", str(cropped), "--crop", "0,0,8,6"]) == 0
+    # --full: the color grid (64x48) at its own resolution, twice (color and depth) plus margins
+    assert 2 * 64 < _size(full)[0] < 2 * 64 + 200 and 48 < _size(full)[1] < 48 + 100
+    # --crop alone enlarges a 32x24 color window (8x6 depth pixels) by a whole factor, at most 16
+    assert 2 * 32 * 16 < _size(cropped)[0] < 2 * 32 * 16 + 200
+
+
+def test_picture_options_errors_are_one_line(files, tmp_path, capsys):
+    out = tmp_path / "x.png"
+    cases = [
+        (["show", str(files["8"]), "-o", str(out), "--crop", "60,0,10,10"], "must lie inside the 16x12 depth map"),
+        (["show", str(files["8"]), "-o", str(out), "--crop", "1,2,3"], "X,Y,WIDTH,HEIGHT"),
+        (["show", str(files["8"]), "-o", str(out), "--scale", "0"], "0 < F <= 64"),
+        (["show", str(files["8"]), "-o", str(out), "--scale", "2", "--full"], "not allowed with argument"),
+        (["refine", str(files["8"]), str(files["color"]), "-o", str(tmp_path / "r.png"), "--full"],
+         "add --preview PNG"),
+        (["refine", str(files["8"]), str(files["color"]), "-o", str(tmp_path / "r.png"), "--preview", str(out),
+          "--crop", "0,0,100,10"], "--crop 0,0,100,10"),
+    ]
+    for args, message in cases:
+        assert main(args) == 2, args
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1, err
+    assert not out.exists() and not (tmp_path / "r.png").exists()
+
+
+def test_refine_preview_crop(files, tmp_path, capsys):
+    out, preview = tmp_path / "r.png", tmp_path / "p.png"
+    assert main(["refine", str(files["8"]), str(files["color"]), "-o", str(out), "--preview", str(preview),
+                 "--crop", "16,8,32,24", "--scale", "4"]) == 0, capsys.readouterr().err
+    cols, rows = _size(preview)
+    assert 2 * 128 < cols < 2 * 128 + 200 and 96 < rows < 96 + 100
+
+
+def test_the_same_file_as_depth_and_color_is_refused(files, tmp_path, capsys):
+    copy = tmp_path / "copy.png"
+    copy.write_bytes(files["color"].read_bytes())
+    for depth, color, message in ((files["color"], files["color"], "are the same file"),
+                                  (copy, files["color"], "identical bytes")):
+        for command in (["refine", str(depth), str(color), "-o", str(tmp_path / "r.png")],
+                        ["show", str(depth), str(color), "-o", str(tmp_path / "s.png")]):
+            assert main(command) == 2
+            err = capsys.readouterr().err
+            assert message in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "r.png").exists() and not (tmp_path / "s.png").exists()

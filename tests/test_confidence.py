@@ -41,7 +41,7 @@ def hard_scene(seed: int, scale: int):
 def test_every_method_gets_a_confidence_map_and_the_same_depth_as_refine(method, small_scene):
     depth_lr, rgb = small_scene.depth_lr.copy(), small_scene.rgb_hr
     depth_lr[3:5, 6:9] = 0
-    kwargs = {"params": depthrefine.RefineParams(patches=(2, 2))} if method == "thesis" else {}
+    kwargs = {"params": depthrefine.ThesisParams(patches=(2, 2))} if method == "thesis" else {}
     depth_hr, confidence = depthrefine.refine_with_confidence(depth_lr, rgb, method=method, **kwargs)
     assert confidence.dtype == np.float32 and confidence.shape == rgb.shape[:2] == depth_hr.shape
     assert np.isfinite(confidence).all() and confidence.min() >= 0.0 and confidence.max() <= 1.0
@@ -232,6 +232,35 @@ def test_depth_figure_has_a_confidence_panel_and_colorbar():
     assert panel.get_images()[0].get_clim() == (0.0, 1.0)
 
 
+def test_pixel_exact_picture_draws_the_same_window_of_the_confidence_map():
+    from depthrefine import viz
+
+    depth = np.arange(64, dtype=np.float32).reshape(8, 8)
+    confidence = np.zeros((8, 8), np.float32)
+    confidence[:, 4:] = 1.0
+    fig = viz.depth_figure(depth, units="m", crop=(2, 2, 4, 3), scale=10, confidence=confidence)
+    labels = [ax.get_label() for ax in fig.axes]
+    assert labels == ["colorbar:depth", "colorbar:confidence"]
+    depth_image, confidence_image = (im.get_array() for im in fig.images)
+    assert depth_image.shape == confidence_image.shape == (30, 40, 3)
+    # The window's columns 2-3 have confidence 0, columns 4-5 have 1: two colors, split in the middle.
+    assert (confidence_image[:, :20] == confidence_image[0, 0]).all()
+    assert (confidence_image[:, 20:] == confidence_image[0, -1]).all()
+    assert not np.array_equal(confidence_image[0, 0], confidence_image[0, -1])
+
+
+def test_batch_options_check_the_confidence_settings():
+    from depthrefine.batch import BatchOptions, FramePlan
+    from depthrefine.methods.registry import get_method
+
+    with pytest.raises(ValueError, match="tif, npy, png"):
+        BatchOptions(confidence="jpg")
+    with pytest.raises(ValueError, match="between 0 and 1"):
+        BatchOptions(min_confidence=1.5)
+    with pytest.raises(ValueError, match="confidence=True"):
+        FramePlan(get_method("bilinear"), min_confidence=0.5)
+
+
 def test_run_writes_a_confidence_map_zero_where_unmeasured(captures, tmp_path, capsys):  # noqa: F811
     out, conf = tmp_path / "out.png", tmp_path / "conf.tif"
     assert main(["run", str(captures["depth"]), str(captures["color"]), "-o", str(out), "--rig",
@@ -266,7 +295,7 @@ def test_batch_writes_confidence_maps_like_refine_with_confidence(tmp_path, caps
             capsys.readouterr().err
         got = list(refine_many({i: f for i, f in enumerate(frames)}, client=client, confidence=True))
     record = json.loads((out / "batch.json").read_text())
-    assert record["confidence"] == "png" and record["frames"][0]["confidence"] == "confidence/00.png"
+    assert record["confidence"] == "png" and record["frames"][0]["confidence_output"] == "confidence/00.png"
     for i, (depth, rgb) in enumerate(frames):
         depth_hr, confidence = depthrefine.refine_with_confidence(depth, rgb)
         key, batch_depth, batch_confidence = got[i]
@@ -332,7 +361,7 @@ def test_temporal_batch_confidence_is_the_frames_own_map_or_the_generic_map_of_t
     from depthrefine.bench.synthetic import make_sequence
 
     frames = [(f.depth_lr, f.rgb_hr) for f in make_sequence(3, (48, 64), 4, seed=5)]
-    params = depthrefine.RefineParams(patches=(2, 2))
+    params = depthrefine.ThesisParams(patches=(2, 2))
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         pairs = dict(enumerate(frames))

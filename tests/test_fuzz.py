@@ -32,7 +32,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 import depthrefine
-from depthrefine import METHODS, RefineParams
+from depthrefine import METHODS, ThesisParams
 from depthrefine.methods.scale import plan_scale
 
 N_EXAMPLES = int(os.environ.get("DEPTHREFINE_FUZZ_EXAMPLES", "3000"))
@@ -113,7 +113,7 @@ def color_shapes(draw, h, w):
 def thesis_params(draw):
     if draw(st.booleans()):
         return None
-    return RefineParams(
+    return ThesisParams(
         patches=(draw(st.integers(1, 5)), draw(st.integers(1, 5))),
         n_clusters=draw(st.integers(1, 6)),
         kmeans_iterations=draw(st.integers(0, 12)),
@@ -129,7 +129,7 @@ def cases(draw):
     depth = draw(depth_maps())
     rows, cols = draw(color_shapes(*depth.shape))
     rgb = draw(color_images(rows, cols))
-    params = draw(thesis_params()) if METHODS[method].params_type is RefineParams else None
+    params = draw(thesis_params()) if METHODS[method].params_type is ThesisParams else None
     return method, depth, rgb, params
 
 

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import shutil
+from pathlib import Path
+
 import cv2
 import numpy as np
 import pytest
@@ -11,10 +14,11 @@ from depthrefine import GbpParams
 from depthrefine.bench.metrics import flicker
 from depthrefine.bench.synthetic import make_scene, make_sequence
 from depthrefine.evaluate import rmse
+from depthrefine.io import sample_folder
 from depthrefine.methods.gbp import (block_mean_valid, estimate_guide_noise, estimate_noise, footprint_share, guide_trust,
                                     upsample_gbp, upsample_gbp_stateful)
 
-from conftest import shared_data_path
+from conftest import SHARED_DATA
 
 
 def _area(depth_hr: np.ndarray, s: int) -> np.ndarray:
@@ -193,8 +197,8 @@ def test_the_guide_trust_undoes_the_harm_of_a_structured_texture(rng, name):
     """Strong texture edges over a smooth surface: the guided estimate copies them; the trust takes them back.
 
     Measured (RMSE, levels): checkerboard 1.50 without the trust, 0.1628 with it, bicubic 0.1628; stripes
-    0.75 / 0.1628 / 0.1628. The trust is zero away from depth jumps of the input (``jump_levels``), and the
-    fallback there is the bicubic enlargement of the input itself, as its noise is zero.
+    0.75 / 0.1628 / 0.1628. The trust is zero away from depth jumps of the input (``measure.JUMP_LEVELS``), and
+    the fallback there is the bicubic enlargement of the input itself, as its noise is zero.
     """
     smooth, textures = _smooth_and_textures(rng)
     depth_lr, texture = _area(smooth, 4), textures[name]
@@ -237,10 +241,11 @@ def test_no_overshoot_beyond_the_input_around_a_large_jump(color_edge):
     """A wall (1000) and a near object (270) with a weak color edge, on the jump or up to one input pixel off: the
     guided solve overshoots both surfaces next to the jump; clipped to the range of the valid input pixels around
     each pixel (before the guide trust, and in every round) it stays between them, and is never worse.
-    Measured (RMSE over the middle rows, without any clip -> ``local_range`` alone -> both, the default; bicubic
-    42.47): edge at column 44 39.99 -> 39.96 -> 39.88, 46 91.04 -> 48.92 -> 45.74, 48 (on the jump) 0.92 -> 0.007
-    -> 0.038, 52 38.60 -> 38.53 -> 38.05; without a clip the result reached 1018.8 / 1551.7 / 1006.7 / 1014.6.
-    (Before ``clip_rounds`` also clipped the residual and the check estimate: both 39.46, 47.10, 0.027, 38.37;
+    Measured (RMSE over the middle rows, without any clip -> the clip before the guide trust alone -> both, the
+    default; bicubic 42.47): edge at column 44 39.99 -> 39.96 -> 39.88, 46 91.04 -> 48.92 -> 45.74, 48 (on the
+    jump) 0.92 -> 0.007 -> 0.038, 52 38.60 -> 38.53 -> 38.05; without a clip the result reached 1018.8 / 1551.7 /
+    1006.7 / 1014.6.
+    (Before the rounds also clipped after the residual and in the check estimate: both 39.46, 47.10, 0.027, 38.37;
     clipping the last round's residual too: 41.51 at column 44, worse than no clip. With bicubic residuals and no
     guide smoothing, before those defaults: 39.77 -> 39.75 -> 39.36, 91.17 -> 46.61 -> 46.15, 0.44 -> 0.00 ->
     0.00, 38.44 -> 38.39 -> 38.24.)
@@ -376,7 +381,7 @@ def test_flat_colored_point_sampled_scenes_with_a_noisy_guide_beat_interpolation
     ({"iterations": 0}, ValueError), ({"lambda_lr": -1.0}, ValueError), ({"trust": "yes"}, TypeError),
     ({"trust": 1}, TypeError), ({"sigma_color": 0.0}, ValueError), ({"flat_lambda_lr": float("inf")}, ValueError),
     ({"guide_smoothing": -1.0}, ValueError),
-    ({"trust_radius": 1.5}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
+    ({"snap_edges": "yes"}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
 ])
 def test_params_are_checked(bad, error):
     with pytest.raises(error):
@@ -402,14 +407,30 @@ def test_cli_thesis_options_need_method_thesis(tmp_path, capsys, small_scene):
 
 # ----------------------------------------------------------------- the realtof protocol (shared data)
 
-def test_realtof_cases_follow_the_protocol():
+def _realtof_root(tmp_path) -> tuple[Path, tuple[str, ...]]:
+    """A data root with real_tof/: the iPhone frame shipped in the package (the same bytes as the shared copy),
+    and the Azure Kinect capture's depth and IR when ../shared/data is there; and the scenes it holds."""
+    folder = tmp_path / "real_tof" / "iphone_lidar_bookshelf"
+    folder.mkdir(parents=True)
+    shutil.copy(sample_folder("bookshelf") / "depth.png", folder / "arkit_depth.png")
+    shutil.copy(sample_folder("bookshelf") / "color.jpg", folder / "image.jpg")
+    kinect = SHARED_DATA / "real_tof" / "azure_kinect_mug" / "derived"
+    if not kinect.is_dir():
+        return tmp_path, ("iphone",)
+    (tmp_path / "real_tof" / "azure_kinect_mug").mkdir()
+    shutil.copytree(kinect, tmp_path / "real_tof" / "azure_kinect_mug" / "derived")
+    return tmp_path, ("iphone", "kinect")
+
+
+def test_realtof_cases_follow_the_protocol(tmp_path):
     from depthrefine.bench.protocols import load_cases
 
-    data = shared_data_path("real_tof")
+    root, scenes = _realtof_root(tmp_path)
     notes: list[str] = []
-    cases = load_cases(data.parent, "realtof", (4, 8, 16), notes=notes)
-    assert sorted((c.scene, c.scale) for c in cases) == [("iphone", 4), ("iphone", 8), ("kinect", 4), ("kinect", 8)]
-    assert all("x16" in n and "x4 and x8" in n for n in notes) and len(notes) == 2
+    cases = load_cases(root, "realtof", (4, 8, 16), notes=notes)
+    assert sorted((c.scene, c.scale) for c in cases) == [(scene, s) for scene in scenes for s in (4, 8)]
+    assert all("x16" in n and "x4 and x8" in n for n in notes if "x16" in n)
+    assert sum("x16" in n for n in notes) == len(scenes)
     for c in cases:
         assert c.rgb_hr.shape[:2] == c.depth_gt.shape and c.rgb_hr.dtype == np.uint8 and c.split == "test"
         assert c.depth_lr.shape == (c.depth_gt.shape[0] // c.scale, c.depth_gt.shape[1] // c.scale)
@@ -421,19 +442,20 @@ def test_realtof_cases_follow_the_protocol():
         empty = np.isnan(gt).reshape(gt.shape[0] // c.scale, c.scale, -1, c.scale).all(axis=(1, 3))
         assert ((c.depth_lr == 0) == empty).all()
     iphone = next(c for c in cases if c.scene == "iphone")
-    kinect = next(c for c in cases if c.scene == "kinect")
-    assert iphone.depth_gt.shape == (192, 256) and kinect.depth_gt.shape == (576, 640)
-    assert np.isnan(kinect.depth_gt).mean() > 0.2 and not np.isnan(iphone.depth_gt).any()
-    assert (kinect.rgb_hr[..., 0] == kinect.rgb_hr[..., 1]).all()        # IR: gray
+    assert iphone.depth_gt.shape == (192, 256) and not np.isnan(iphone.depth_gt).any()
+    if "kinect" in scenes:
+        kinect = next(c for c in cases if c.scene == "kinect")
+        assert kinect.depth_gt.shape == (576, 640) and np.isnan(kinect.depth_gt).mean() > 0.2
+        assert (kinect.rgb_hr[..., 0] == kinect.rgb_hr[..., 1]).all()        # IR: gray
 
 
-def test_realtof_do_no_harm_the_default_beats_interpolation_on_real_captures():
+def test_realtof_do_no_harm_the_default_beats_interpolation_on_real_captures(tmp_path):
     """On real ToF (target = real depth), the default method is below bicubic's and bilinear's RMSE in every cell."""
     from depthrefine.bench import run_benchmark
     from depthrefine.bench.protocols import load_cases
 
-    data = shared_data_path("real_tof")
-    cases = load_cases(data.parent, "realtof", (4, 8))
+    root, _ = _realtof_root(tmp_path)
+    cases = load_cases(root, "realtof", (4, 8))
     rows = run_benchmark(cases, ["bilinear", "bicubic", "gbp"]).rows
     score = {(r.scene, r.scale, r.method): r.rmse for r in rows}
     for scene, scale in {(r.scene, r.scale) for r in rows}:
@@ -544,3 +566,22 @@ def test_a_depth_step_the_guide_does_not_show_stays_sharp():
     assert rmse(with_gradients, gt) < 0.6 * min(rmse(color_only, gt), rmse(bicubic, gt))   # 2.64 vs 5.29 / 5.50
     # the jump between two neighbours is most of the step
     assert np.diff(with_gradients[:, 26:34], axis=1).max() > 0.5 * 60
+
+
+def test_snap_edges_moves_a_fattened_jump_onto_the_color_edge():
+    """A near surface (40) spilling 6 px over a far one (200), as a direct-ToF pixel reports it; the color edge is
+    at column 29: with ``snap_edges`` the output's jump lands on it in every row, without it stays where the input
+    put it; on a guide without an edge nothing moves."""
+    rows, cols, s, edge_col = 48, 64, 4, 29
+    rgb = np.zeros((rows, cols, 3), np.uint8)
+    rgb[:, edge_col:] = 255
+    fattened = np.where(np.arange(cols)[None, :] < edge_col + 6, 40.0, 200.0).repeat(rows, axis=0).astype(np.float32)
+    depth_lr = _area(fattened, s)
+    plain = upsample_gbp(depth_lr, rgb)
+    snapped = upsample_gbp(depth_lr, rgb, params=GbpParams(snap_edges=True))
+    crossing = lambda out: (out < 120).sum(axis=1)            # columns on the near side, per row
+    assert (crossing(plain) >= edge_col + 3).all()             # the input's displaced jump
+    assert (np.abs(crossing(snapped) - edge_col) <= 1).all()   # on the color edge
+    flat = np.full_like(rgb, 128)
+    np.testing.assert_array_equal(upsample_gbp(depth_lr, flat, params=GbpParams(snap_edges=True)),
+                                  upsample_gbp(depth_lr, flat))

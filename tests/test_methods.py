@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import depthrefine
-from depthrefine import DEFAULT_METHOD, METHODS, GbpParams, RefineParams, get_method, refine, register_method
+from depthrefine import DEFAULT_METHOD, METHODS, GbpParams, ThesisParams, get_method, refine, register_method
 from depthrefine.methods.gbp import upsample_gbp
 from depthrefine.methods.thesis.refine import refine_thesis
 
@@ -38,8 +38,8 @@ def offset_nearest(depth_lr, rgb_hr, *, params=None, progress=None):
 def test_the_thesis_and_baselines_are_registered():
     assert {"thesis", "nearest", "bilinear", "bicubic"} <= set(METHODS)
     thesis = get_method("thesis")
-    assert thesis.func is refine_thesis and thesis.params_type is RefineParams and thesis.guided
-    assert thesis.default_params() == RefineParams()
+    assert thesis.func is refine_thesis and thesis.params_type is ThesisParams and thesis.guided
+    assert thesis.default_params() == ThesisParams()
     for name in ("nearest", "bilinear", "bicubic"):
         entry = get_method(name)
         assert entry.params_type is None and entry.default_params() is None and not entry.guided
@@ -55,12 +55,12 @@ def test_unknown_method_lists_the_known_ones():
 
 def test_params_must_be_the_methods_own_type():
     depth, rgb = np.ones((2, 2), np.uint8), np.zeros((4, 4, 3), np.uint8)
-    with pytest.raises(TypeError, match="takes params of type RefineParams; got dict"):
+    with pytest.raises(TypeError, match="takes params of type ThesisParams; got dict"):
         refine(depth, rgb, method="thesis", params={"n_clusters": 2})
-    with pytest.raises(TypeError, match="takes params of type GbpParams; got RefineParams.*method='thesis'"):
-        refine(depth, rgb, params=RefineParams())
+    with pytest.raises(TypeError, match="takes params of type GbpParams; got ThesisParams.*method='thesis'"):
+        refine(depth, rgb, params=ThesisParams())
     with pytest.raises(TypeError, match="'bilinear' takes no parameters"):
-        refine(depth, rgb, method="bilinear", params=RefineParams())
+        refine(depth, rgb, method="bilinear", params=ThesisParams())
 
 
 def test_default_method_is_gbp_and_thesis_stays_exact(small_scene):
@@ -99,7 +99,7 @@ def test_register_a_new_method_and_call_it_by_name(registry, small_scene):
     np.testing.assert_array_equal(out, nearest + np.float32(2.5))
     assert calls == [(1, 1)]
     with pytest.raises(TypeError, match="OffsetParams"):
-        refine(small_scene.depth_lr, small_scene.rgb_hr, method="offset-nearest", params=RefineParams())
+        refine(small_scene.depth_lr, small_scene.rgb_hr, method="offset-nearest", params=ThesisParams())
 
 
 def test_a_taken_name_needs_replace(registry):

@@ -1,4 +1,4 @@
-"""RefineParams: thesis defaults, validation, round trip through a mapping."""
+"""ThesisParams: thesis defaults, validation, round trip through a mapping."""
 
 from __future__ import annotations
 
@@ -7,11 +7,11 @@ import json
 
 import pytest
 
-from depthrefine.methods.thesis.params import RefineParams, params_from_mapping
+from depthrefine.methods.thesis.params import ThesisParams, params_from_mapping
 
 
 def test_defaults_are_the_thesis_values():
-    p = RefineParams()
+    p = ThesisParams()
     assert p.patches == (4, 4)                     # spec decision 4
     assert p.patch_layout is None
     assert p.median_size == 7                      # 4.3.1
@@ -27,36 +27,36 @@ def test_defaults_are_the_thesis_values():
 
 
 def test_frozen_and_hashable():
-    p = RefineParams()
+    p = ThesisParams()
     with pytest.raises(dataclasses.FrozenInstanceError):
         p.n_clusters = 3  # type: ignore[misc]
-    assert hash(p) == hash(RefineParams())
-    assert RefineParams(patches=[2, 3]) == RefineParams(patches=(2, 3))
+    assert hash(p) == hash(ThesisParams())
+    assert ThesisParams(patches=[2, 3]) == ThesisParams(patches=(2, 3))
 
 
 def test_lists_become_tuples():
-    p = RefineParams(patches=[2, 3], patch_layout=[[0, 0, 8, 8], [8, 0, 8, 8]])
+    p = ThesisParams(patches=[2, 3], patch_layout=[[0, 0, 8, 8], [8, 0, 8, 8]])
     assert p.patches == (2, 3)
     assert p.patch_layout == ((0, 0, 8, 8), (8, 0, 8, 8))
 
 
 def test_round_trip_through_json():
-    p = RefineParams(patches=(2, 5), patch_layout=((0, 0, 4, 4),), n_clusters=3, level_size=0.5,
+    p = ThesisParams(patches=(2, 5), patch_layout=((0, 0, 4, 4),), n_clusters=3, level_size=0.5,
                      correct_depth=False)
     text = json.dumps(p.to_dict())
-    assert RefineParams.from_dict(json.loads(text)) == p
+    assert ThesisParams.from_dict(json.loads(text)) == p
 
 
 def test_unknown_key_lists_the_known_ones():
     with pytest.raises(ValueError, match=r"unknown parameter\(s\) 'clusters'.*known: patches"):
-        RefineParams.from_dict({"clusters": 3})
+        ThesisParams.from_dict({"clusters": 3})
 
 
 def test_mapping_errors_name_the_source():
     with pytest.raises(ValueError, match="^my.toml: n_clusters must be >= 1"):
-        params_from_mapping(RefineParams, {"n_clusters": 0}, source="my.toml")
+        params_from_mapping(ThesisParams, {"n_clusters": 0}, source="my.toml")
     with pytest.raises(TypeError, match="must be a table"):
-        params_from_mapping(RefineParams, [("n_clusters", 3)])
+        params_from_mapping(ThesisParams, [("n_clusters", 3)])
 
 
 @pytest.mark.parametrize(
@@ -92,9 +92,9 @@ def test_mapping_errors_name_the_source():
 )
 def test_invalid_values_are_rejected_with_the_field_name(kwargs, error, match):
     with pytest.raises(error, match=match):
-        RefineParams(**kwargs)
+        ThesisParams(**kwargs)
 
 
 def test_accepted_edge_values():
-    RefineParams(median_size=1, kmeans_iterations=0, expansion=0, n_clusters=1, dominant_fraction=1.0,
+    ThesisParams(median_size=1, kmeans_iterations=0, expansion=0, n_clusters=1, dominant_fraction=1.0,
                  tolerance_levels=0, black_bound=0.0, white_bound=1.0, lightness_weight=0)

@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import depthrefine
-from depthrefine import METHODS, RefineParams
+from depthrefine import METHODS, ThesisParams
 from depthrefine.bench.synthetic import PALETTE
 
 #: Depth map sizes (rows, cols), integer scale factors, seeds of the random scene.
@@ -29,7 +29,7 @@ SCALES = st.integers(1, 6)
 SEEDS = st.integers(0, 2**32 - 1)
 #: Thesis parameters that change the code path: patch grid, k, correction, expansion, median.
 THESIS_PARAMS = st.builds(
-    RefineParams,
+    ThesisParams,
     patches=st.tuples(st.integers(1, 4), st.integers(1, 4)),
     n_clusters=st.integers(1, 5),
     correct_depth=st.booleans(),

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import depthrefine
-from depthrefine import RefineParams, refine_with_intermediates
+from depthrefine import ThesisParams
+from depthrefine.methods.thesis import refine_with_intermediates
 from depthrefine.methods.thesis.refine import correct_cluster_depths, patch_grid, refine_thesis
 from depthrefine.methods.thesis.segment import median_rgb, rgb_to_lab
 from depthrefine.bench.synthetic import make_scene, make_two_planes
@@ -48,7 +49,7 @@ def test_patch_grid_covers_every_depth_pixel_once(shape, grid):
 def test_patches_in_the_result_are_on_the_color_grid_in_multiples_of_s():
     depth = np.full((6, 10), 50, np.uint8)
     rgb = np.zeros((24, 40, 3), np.uint8)
-    r = refine_with_intermediates(depth, rgb, params=RefineParams(patches=(2, 3)))
+    r = refine_with_intermediates(depth, rgb, params=ThesisParams(patches=(2, 3)))
     assert r.patches == [(0, 8, 0, 20), (0, 8, 20, 40), (8, 16, 0, 20), (8, 16, 20, 40),
                          (16, 24, 0, 20), (16, 24, 20, 40)]
     expected = np.repeat(np.repeat(np.arange(6).reshape(3, 2), 8, axis=0), 20, axis=1)
@@ -60,7 +61,7 @@ def test_manual_layout_is_snapped_to_the_depth_grid_and_later_rectangles_win():
     rgb = np.zeros((16, 32, 3), np.uint8)
     # (x, y, width, height) in color pixels; the second overlaps the first, x = 9 snaps to column 2.
     layout = ((0, 0, 20, 16), (9, 0, 23, 16))
-    r = refine_with_intermediates(depth, rgb, params=RefineParams(patch_layout=layout))
+    r = refine_with_intermediates(depth, rgb, params=ThesisParams(patch_layout=layout))
     assert r.patches == [(0, 16, 0, 20), (0, 16, 8, 32)]
     assert (r.patch_index[:, :8] == 0).all() and (r.patch_index[:, 8:] == 1).all()
     assert r.depth_hr.shape == (16, 32) and (r.depth_hr == 50).all()
@@ -70,21 +71,21 @@ def test_manual_layout_must_cover_the_image():
     depth = np.full((4, 8), 50, np.uint8)
     rgb = np.zeros((16, 32, 3), np.uint8)
     with pytest.raises(ValueError, match=r"leave 4 depth pixels uncovered.*x=28, y=0"):
-        refine_thesis(depth, rgb, params=RefineParams(patch_layout=((0, 0, 28, 16),)))
+        refine_thesis(depth, rgb, params=ThesisParams(patch_layout=((0, 0, 28, 16),)))
 
 
 def test_manual_layout_must_stay_inside_the_image():
     depth = np.full((4, 8), 50, np.uint8)
     rgb = np.zeros((16, 32, 3), np.uint8)
     with pytest.raises(ValueError, match=r"manual patch 1 .*x=16.*width=20.*outside the color image \(32x16\)"):
-        refine_thesis(depth, rgb, params=RefineParams(patch_layout=((0, 0, 16, 16), (16, 0, 20, 16))))
+        refine_thesis(depth, rgb, params=ThesisParams(patch_layout=((0, 0, 16, 16), (16, 0, 20, 16))))
 
 
 def test_manual_layout_equal_to_the_grid_gives_the_grid_result(small_scene):
     scene = small_scene
-    grid = refine_thesis(scene.depth_lr, scene.rgb_hr, params=RefineParams(patches=(2, 2)))
+    grid = refine_thesis(scene.depth_lr, scene.rgb_hr, params=ThesisParams(patches=(2, 2)))
     layout = ((0, 0, 32, 32), (32, 0, 32, 32), (0, 32, 32, 32), (32, 32, 32, 32))
-    manual = refine_thesis(scene.depth_lr, scene.rgb_hr, params=RefineParams(patch_layout=layout))
+    manual = refine_thesis(scene.depth_lr, scene.rgb_hr, params=ThesisParams(patch_layout=layout))
     np.testing.assert_array_equal(manual, grid)
 
 
@@ -171,7 +172,7 @@ def test_two_planes_in_other_units_and_patch_grids(two_planes):
         for dtype, left, right in ((np.float32, 0.9, 3.1), (np.uint16, 900, 3100))
     ]
     for scene in scenes:
-        for params in (None, RefineParams(patches=(1, 1)), RefineParams(patches=(2, 1), n_clusters=2)):
+        for params in (None, ThesisParams(patches=(1, 1)), ThesisParams(patches=(2, 1), n_clusters=2)):
             out = depthrefine.refine(scene.depth_lr, scene.rgb_hr, params=params, method="thesis")
             np.testing.assert_array_equal(out, scene.depth_hr_gt)
 
@@ -180,9 +181,9 @@ def test_a_rare_sample_in_a_cluster_is_corrected():
     scene = make_two_planes((16, 32), 4, edge_col=13)
     depth = scene.depth_lr.copy()
     depth[1, 5] = 120                      # noise spike inside the right plane
-    corrected = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1)), method="thesis")
+    corrected = depthrefine.refine(depth, scene.rgb_hr, params=ThesisParams(patches=(1, 1)), method="thesis")
     np.testing.assert_array_equal(corrected, scene.depth_hr_gt)
-    raw = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1), correct_depth=False), method="thesis")
+    raw = depthrefine.refine(depth, scene.rgb_hr, params=ThesisParams(patches=(1, 1), correct_depth=False), method="thesis")
     assert raw.max() > 60 and (raw[:, 13:] != 60).sum() > 0
 
 
@@ -193,7 +194,7 @@ def test_an_invalid_sample_is_filled_from_its_cluster():
     as_float = scene.depth_lr.astype(np.float32)
     as_float[2, 2] = np.nan
     for depth in (as_uint8, as_float):
-        out = depthrefine.refine(depth, scene.rgb_hr, params=RefineParams(patches=(1, 1)), method="thesis")
+        out = depthrefine.refine(depth, scene.rgb_hr, params=ThesisParams(patches=(1, 1)), method="thesis")
         np.testing.assert_array_equal(out, scene.depth_hr_gt)
 
 
@@ -203,7 +204,7 @@ def test_a_cluster_without_samples_takes_the_nearest_corrected_sample():
     depth = (20 + 10 * np.arange(16).reshape(4, 4)).astype(np.uint8)
     rgb = np.full((16, 16, 3), 128, np.uint8)
     rgb[7:10, 3:6] = (0, 0, 255)
-    params = RefineParams(patches=(1, 1), median_size=1, n_clusters=2, correct_depth=False)
+    params = ThesisParams(patches=(1, 1), median_size=1, n_clusters=2, correct_depth=False)
     r = refine_with_intermediates(depth, rgb, params=params)
     square = r.labels[7:10, 3:6]
     assert (square == square[0, 0]).all() and square[0, 0] not in r.labels_lr
@@ -219,13 +220,13 @@ def test_a_cluster_without_samples_takes_the_nearest_corrected_sample():
 
 def test_progress_is_reported_after_each_patch(small_scene):
     calls = []
-    depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr, params=RefineParams(patches=(3, 2)),
+    depthrefine.refine(small_scene.depth_lr, small_scene.rgb_hr, params=ThesisParams(patches=(3, 2)),
                        progress=lambda done, total: calls.append((done, total)), method="thesis")
     assert calls == [(i, 6) for i in range(1, 7)]
 
 
 def test_params_of_the_wrong_type_are_refused():
-    with pytest.raises(TypeError, match="RefineParams"):
+    with pytest.raises(TypeError, match="ThesisParams"):
         refine_thesis(np.ones((2, 2), np.uint8), np.zeros((4, 4, 3), np.uint8), params={"n_clusters": 2})
 
 
@@ -235,10 +236,10 @@ def test_params_of_the_wrong_type_are_refused():
 
 
 PARAM_CASES = [
-    RefineParams(),
-    RefineParams(patches=(3, 2), n_clusters=3),
-    RefineParams(patch_layout=((0, 0, 40, 64), (24, 16, 40, 48), (40, 0, 24, 16))),
-    RefineParams(unify_lightness=False, correct_depth=False, expansion=0),
+    ThesisParams(),
+    ThesisParams(patches=(3, 2), n_clusters=3),
+    ThesisParams(patch_layout=((0, 0, 40, 64), (24, 16, 40, 48), (40, 0, 24, 16))),
+    ThesisParams(unify_lightness=False, correct_depth=False, expansion=0),
 ]
 
 
@@ -272,7 +273,7 @@ def test_intermediates_are_consistent(small_scene):
     s = scene.scale
     depth = scene.depth_lr.copy()
     depth[3, 4] = 0                                   # one hole
-    params = RefineParams(patches=(2, 2))
+    params = ThesisParams(patches=(2, 2))
     r = refine_with_intermediates(depth, scene.rgb_hr, params=params)
     H, W = scene.rgb_hr.shape[:2]
     h, w = depth.shape
@@ -320,7 +321,7 @@ def test_intermediates_are_consistent(small_scene):
 
 def test_corrected_depth_without_correction_is_the_input():
     scene = make_scene((64, 64), 4, n_objects=2, seed=2)
-    r = refine_with_intermediates(scene.depth_lr, scene.rgb_hr, params=RefineParams(correct_depth=False))
+    r = refine_with_intermediates(scene.depth_lr, scene.rgb_hr, params=ThesisParams(correct_depth=False))
     np.testing.assert_array_equal(r.corrected_lr, scene.depth_lr.astype(np.float32))
 
 
@@ -329,7 +330,7 @@ def test_level_size_follows_the_data():
     r = refine_with_intermediates(scene.depth_lr, scene.rgb_hr)
     lo, hi = np.nanmin(scene.depth_lr), np.nanmax(scene.depth_lr)
     assert r.level_size == pytest.approx((hi - lo) / 255, rel=1e-6)
-    r = refine_with_intermediates(scene.depth_lr, scene.rgb_hr, params=RefineParams(level_size=0.05))
+    r = refine_with_intermediates(scene.depth_lr, scene.rgb_hr, params=ThesisParams(level_size=0.05))
     assert r.level_size == 0.05
 
 

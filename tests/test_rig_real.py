@@ -7,8 +7,9 @@ tests run everywhere.
 
 Edge-overlap thresholds (``depthrefine.rig.edges.edge_overlap``, mug outline: nearer than
 600 mm next to farther than 1000 mm, against Canny edges of the color image), measured with
-the factory calibration: the reprojected depth has 35 % of its outline within 2 px of a color
-edge (median 3.0 px), the refined depth a median of 4.0 px. With the extrinsics inverted
+the factory calibration: the reprojected depth (on a 1056x594 grid at the depth camera's
+resolution, spread over the color grid) has 38 % of its outline within 2 px of a color edge
+(median 3.0 px), the refined depth (upsampled x2) a median of 3.0 px. With the extrinsics inverted
 (the wrong direction) the reprojected outline has 5 % within 2 px (median 27 px), without
 extrinsics 2 % (25 px). The tests ask for at least 25 % and a median of at most 4 px for the
 reprojection, at most 8 px for the refined map (whose outline also depends on the method), and
@@ -27,9 +28,10 @@ import pytest
 
 from conftest import shared_data_path
 from depthrefine.cli import main
-from depthrefine.io import load_capture, read_calibration, read_depth, read_ply, read_rgb, read_rig, sample_folder
+from depthrefine.io import (DATASETS, file_sha256, load_capture, read_calibration, read_depth, read_ply, read_rgb,
+                            read_rig, sample_folder)
 from depthrefine.rig import Board, StereoRig, calibrate_from_views, detect_board
-from depthrefine.rig.chain import AlignSettings, align_pair
+from depthrefine.rig.chain import AlignSettings, align_pair, nearest_on_grid
 from depthrefine.rig.edges import edge_overlap
 
 CHARUCO = Board.charuco((14, 9), 0.04, 0.03, "DICT_5X5_250")
@@ -87,15 +89,20 @@ def test_calibrate_cli_on_real_charuco_views(tmp_path, capsys):
 # ----------------------------------------------------------------------------
 
 
-def test_shipped_captures_are_the_shared_files():
-    shared = shared_data_path("real_tof")
-    pairs = [("mug", "depth.png", "azure_kinect_mug/derived/depth_640x576_mm.png"),
-             ("mug", "color.jpg", "azure_kinect_mug/derived/color_1280x720.jpg"),
-             ("mug", "calibration.json", "azure_kinect_mug/calibration.json"),
-             ("bookshelf", "depth.png", "iphone_lidar_bookshelf/arkit_depth.png"),
-             ("bookshelf", "color.jpg", "iphone_lidar_bookshelf/image.jpg")]
-    for scene, name, source in pairs:
-        assert (sample_folder(scene) / name).read_bytes() == (shared / source).read_bytes(), name
+def test_shipped_captures_are_the_benchmark_files():
+    """The shipped captures have the bytes of the data sets' files (the catalog's SHA-256 of the shared copies)."""
+    pairs = [("mug", "depth.png", "azure_kinect_mug", "derived/depth_640x576_mm.png"),
+             ("mug", "color.jpg", "azure_kinect_mug", "derived/color_1280x720.jpg"),
+             ("mug", "calibration.json", "azure_kinect_mug", "calibration.json"),
+             ("mug", "LICENSE", "azure_kinect_mug", "LICENSE.pyk4a-MIT.txt"),
+             ("bookshelf", "depth.png", "iphone_lidar_bookshelf", "arkit_depth.png"),
+             ("bookshelf", "color.jpg", "iphone_lidar_bookshelf", "image.jpg"),
+             ("bookshelf", "LICENSE", "iphone_lidar_bookshelf", "LICENSE.PromptDA-Apache-2.0.txt")]
+    for scene, name, dataset, source in pairs:
+        assert file_sha256(sample_folder(scene) / name) == DATASETS[dataset].checksums[source], name
+    art = DATASETS["middlebury2005_park"].checksums
+    for name in ("color.png", "gt_disp.png", "noisy_x4.png", "noisy_x8.png", "noisy_x16.png"):
+        assert file_sha256(sample_folder("art") / name) == art[f"art/{name}"], name
 
 
 def test_shipped_checksums():
@@ -217,10 +224,11 @@ def mug_run(tmp_path_factory) -> dict[str, Path]:
     assert main(["rig", "import", str(scene / "calibration.json"), "--depth-mode", "NFOV_UNBINNED",
                  "--color-resolution", "720P", "-o", str(rig)]) == 0
     out = {"rig": rig, "refined": folder / "refined.png", "aligned": folder / "aligned.png",
-           "ply": folder / "cloud.ply", "filled": folder / "filled.png"}
+           "ply": folder / "cloud.ply", "filled": folder / "filled.png", "color": folder / "color.png",
+           "float": folder / "refined.npy"}
     assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(rig), "--depth-units",
                  "0.001", "-o", str(out["refined"]), "--ply", str(out["ply"]), "--save-aligned",
-                 str(out["aligned"])]) == 0
+                 str(out["aligned"]), "--save-color", str(out["color"])]) == 0
     settings = folder / "settings.json"
     assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(rig), "--depth-units",
                  "0.001", "-o", str(out["filled"]), "--fill-holes", "--save-settings", str(settings)]) == 0
@@ -233,12 +241,14 @@ def test_mug_chain_gives_a_1280x720_millimetre_map_lined_up_with_the_color(mug_r
     capture = load_capture("mug")
     refined = read_depth(mug_run["refined"])
     aligned = read_depth(mug_run["aligned"])
-    assert refined.shape == (720, 1280) and refined.dtype == np.uint16 and aligned.shape == (720, 1280)
+    # the depth camera's resolution (focal ratio 1.21: 1280x720 / 1.21), upsampled by the method
+    assert refined.shape == (720, 1280) and refined.dtype == np.uint16 and aligned.shape == (594, 1056)
     mug = refined[450:600, 300:450]  # the mug's body, at about 256 mm
     assert 220 < np.median(mug[mug > 0]) < 300
     rgb = align_pair(capture.depth, capture.rgb, read_rig(mug_run["rig"]),
                      settings=AlignSettings(depth_units=0.001)).rgb_hr
-    fit = edge_overlap(aligned.astype(np.float32), rgb, near=NEAR, far=FAR)
+    assert np.array_equal(read_rgb(mug_run["color"]), rgb)  # --save-color: the grid the result lies on
+    fit = edge_overlap(nearest_on_grid(aligned, rgb.shape[:2]), rgb, near=NEAR, far=FAR)
     assert fit.pixels > 200 and fit.fraction >= 0.25 and fit.median_px <= 4.0, fit
     fit_refined = edge_overlap(refined.astype(np.float32), rgb, near=NEAR, far=FAR)
     assert fit_refined.median_px <= 8.0, fit_refined
@@ -250,7 +260,7 @@ def test_mug_extrinsics_direction(mug_run):
     rig = read_rig(mug_run["rig"])
     inverted = StereoRig(rig.depth_camera, rig.color_camera, rig.R.T, -rig.R.T @ rig.t)
     pair = align_pair(capture.depth, capture.rgb, inverted, settings=AlignSettings(depth_units=0.001))
-    fit = edge_overlap(pair.depth_lr, pair.rgb_hr, near=NEAR, far=FAR)
+    fit = edge_overlap(nearest_on_grid(pair.depth_lr, pair.rgb_hr.shape[:2]), pair.rgb_hr, near=NEAR, far=FAR)
     assert fit.median_px > 15, fit
 
 
@@ -261,9 +271,13 @@ def test_mug_unmeasured_pixels_stay_invalid_unless_fill_holes(mug_run):
     # outside the NFOV hexagon (the color image's corners and left/right edges) nothing was measured
     for corner in (refined[:40, :40], refined[:40, -40:], refined[-40:, -40:], refined[300:400, :60]):
         assert (corner == 0).all()
-    assert np.array_equal(refined == 0, aligned == 0)  # s = 1: exactly the reprojected depth's holes
+    assert np.array_equal(refined == 0, nearest_on_grid(aligned, refined.shape) == 0)  # the aligned depth's holes
     assert 0.40 < (refined == 0).mean() < 0.50
-    assert (filled == 0).mean() < 0.01  # --fill-holes: the refinement's depth everywhere
+    # --fill-holes: the holes inside a measured surface get the refinement's depth, what lies beyond any
+    # measurement (outside the hexagon) stays unmeasured
+    assert (filled == 0).mean() < (refined == 0).mean() - 0.01
+    for corner in (filled[:40, :40], filled[:40, -40:], filled[-40:, -40:], filled[300:400, :60]):
+        assert (corner == 0).all()
     again = mug_run["filled"].with_name("again.png")  # fill_holes = true read back from the settings file
     scene = sample_folder("mug")
     assert main(["run", str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(mug_run["settings"]),
@@ -274,6 +288,25 @@ def test_mug_unmeasured_pixels_stay_invalid_unless_fill_holes(mug_run):
     points, colors = read_ply(mug_run["ply"])
     assert points.shape[0] == int(both.sum()) and colors.shape == (points.shape[0], 3)
     assert 0.2 < np.median(points[:, 2]) < 2.5  # metres
+    # The point cloud is made from the float result: no 1 mm terraces (depths between whole millimetres).
+    assert np.mean(np.abs(points[:, 2] * 1000 - np.round(points[:, 2] * 1000)) > 0.01) > 0.5
+
+
+def test_mug_run_writes_float_or_finer_integer_depth(mug_run, tmp_path):
+    """The refined depth keeps its fractions of a millimetre as float32 (.npy/.tif) or as 0.1 mm uint16."""
+    scene = sample_folder("mug")
+    common = [str(scene / "depth.png"), str(scene / "color.jpg"), "--rig", str(mug_run["rig"]), "--depth-units",
+              "0.001", "--refine-method", "bilinear"]
+    tenth = tmp_path / "tenth.png"
+    assert main(["run", *common, "-o", str(mug_run["float"]), "--output-dtype", "float32"]) == 0
+    assert main(["run", *common, "-o", str(tenth), "--output-scale", "10", "--output-dtype", "uint16"]) == 0
+    depth = np.load(mug_run["float"])
+    assert depth.dtype == np.float32 and depth.shape == (720, 1280)
+    valid = depth > 0
+    assert np.mean(np.abs(depth[valid] - np.round(depth[valid])) > 0.01) > 0.5  # not whole millimetres
+    tenths = read_depth(tenth)
+    assert tenths.dtype == np.uint16 and np.array_equal(tenths > 0, valid)
+    assert np.abs(tenths[valid] - depth[valid].astype(np.float64) * 10).max() <= 0.5 + 1e-3  # 0.1 mm steps
 
 
 # ----------------------------------------------------------------------------

@@ -92,7 +92,7 @@ def test_refine_with_a_non_integer_ratio_warns_and_returns_the_color_shape():
     rgb = np.zeros((37, 44, 3), np.uint8)
     rgb[:, 22:] = 200
     with pytest.warns(depthrefine.ScaleWarning, match="non-integer ratio"):
-        out = depthrefine.refine(depth, rgb, params=depthrefine.RefineParams(patches=(1, 1)), method="thesis")
+        out = depthrefine.refine(depth, rgb, params=depthrefine.ThesisParams(patches=(1, 1)), method="thesis")
     assert out.shape == (37, 44) and out.dtype == np.float32
     assert set(np.unique(out).tolist()) == {30.0, 100.0}
     # The edge stays where the color edge is, within the resize (one work pixel = 44/48 color pixels).

@@ -28,7 +28,7 @@ def test_import_depthrefine_imports_no_heavy_module():
 def test_public_api_without_plotting_or_scipy():
     # The registry probes OpenCV (is the fast bilateral solver usable?), so cv2 may load;
     # matplotlib and SciPy wait for the functions that use them.
-    loaded = _imported_after("import depthrefine\ndepthrefine.refine, depthrefine.RefineParams, depthrefine.METHODS")
+    loaded = _imported_after("import depthrefine\ndepthrefine.refine, depthrefine.ThesisParams, depthrefine.METHODS")
     assert "matplotlib" not in loaded and "scipy" not in loaded and "numba" not in loaded
 
 
@@ -110,7 +110,7 @@ def test_lazy_public_names_and_subpackages_resolve():
     import depthrefine
 
     assert depthrefine.refine is depthrefine.methods.registry.refine
-    assert "RefineParams" in dir(depthrefine) and "io" in dir(depthrefine)
+    assert "ThesisParams" in dir(depthrefine) and "io" in dir(depthrefine)
     with pytest.raises(AttributeError, match="no_such_name"):
         depthrefine.no_such_name  # noqa: B018
 

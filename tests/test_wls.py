@@ -213,3 +213,30 @@ def test_run_split_covers_the_range_once_and_raises_a_kernel_error():
     if _numba.threads() > 1:
         with pytest.raises(ValueError, match="part failed"):
             _numba.run_split(failing, 10)
+
+
+def test_expf32_is_exp_to_the_last_bit_of_float32_and_keeps_its_special_cases():
+    from depthrefine._numba import expf32
+
+    rng = np.random.default_rng(3)
+    xs = np.concatenate([rng.uniform(-103, 88.7, 2000), rng.normal(0, 1, 500)]).astype(np.float32)
+    ours = np.array([expf32(x) for x in xs], np.float32)
+    exact = np.exp(xs.astype(np.float64))
+    ulp = np.spacing(exact.astype(np.float32)).astype(np.float64)
+    assert (np.abs(ours - exact) <= ulp).all()           # within one float32 step of the exact value
+    special = np.array([0.0, -np.inf, np.inf, 89.0, -104.0, -103.5], np.float32)
+    assert [float(expf32(x)) for x in special] == [1.0, 0.0, np.inf, np.inf, 0.0, float(np.float32(2.0 ** -149))]
+    assert np.isnan(expf32(np.float32(np.nan)))
+
+
+@pytest.mark.parametrize("shape", [(37, 37), (23, 41)])
+def test_guided_smooth_is_smooth_with_the_edge_weights_bit_for_bit(shape):
+    """On a square image too, whose transposed scratch arrays have the shape of the weights'."""
+    guide, src = _scene(4, shape)
+    for iterations in (1, 3):
+        fused = _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, iterations=iterations)
+        apart = _wls.smooth(src, *_wls.edge_weights(guide, 6.0, src, 3.0), 40.0, iterations=iterations)
+        assert fused.tobytes() == apart.tobytes()
+    wx, wy = _wls.edge_weights(guide, 6.0, src, 3.0)
+    ref = _wls.depth_weights(src, 3.0, *_wls.color_weights(guide, 6.0))
+    assert wx.tobytes() == ref[0].tobytes() and wy.tobytes() == ref[1].tobytes()

@@ -23,6 +23,15 @@ Subpackages, one per domain (the README's "Architecture" section draws the flow)
                 :func:`batch.refine_many`, and the scheduling of ``depthrefine batch``
 - ``viz``       pictures: depth figures with a colorbar (demo, show, report), colorized depth, labels
 - ``evaluate``  the public name of the metrics (``bench.metrics``)
+
+Top-level names belong to every method (:func:`refine`, the registry,
+:class:`ScaleWarning`) or say their method (:class:`ThesisParams`,
+:class:`GbpParams`). The thesis method's own results live with it:
+``depthrefine.methods.thesis.refine_with_intermediates`` and ``.Refinement``.
+Deprecated for one release (a ``DeprecationWarning`` on use, same objects):
+``depthrefine.RefineParams`` (now :class:`ThesisParams`), and
+``depthrefine.refine_with_intermediates`` and ``depthrefine.Refinement`` (now
+only in ``depthrefine.methods.thesis``).
 """
 
 from ._lazy import lazy_exports
@@ -33,23 +42,30 @@ __version__ = "0.1.0"
 #: ``import depthrefine`` and ``depthrefine --version`` stay fast.
 _EXPORTS = {
     ".methods.registry": ("refine", "DEFAULT_METHOD", "METHODS", "Method", "get_method", "register_method"),
-    ".methods.thesis.params": ("RefineParams",),
+    ".methods.thesis.params": ("ThesisParams",),
     ".methods.gbp": ("GbpParams",),
-    ".methods.thesis.refine": ("Refinement", "ScaleWarning", "refine_with_intermediates"),
+    ".methods.scale": ("ScaleWarning",),
     ".methods.confidence": ("refine_with_confidence",),
 }
 _SUBPACKAGES = ("methods", "rig", "bench", "io", "cli", "batch", "viz", "evaluate")
+#: Old top-level names, each read with a DeprecationWarning until the next release.
+_DEPRECATED = {
+    "RefineParams": (".methods.thesis.params", "ThesisParams", "depthrefine.ThesisParams (the same class, renamed)"),
+    "Refinement": (".methods.thesis.refine", "Refinement",
+                   "depthrefine.methods.thesis.Refinement (it belongs to the thesis method)"),
+    "refine_with_intermediates": (".methods.thesis.refine", "refine_with_intermediates",
+                                  "depthrefine.methods.thesis.refine_with_intermediates (it belongs to the thesis "
+                                  "method)"),
+}
 
-__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _SUBPACKAGES)
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _SUBPACKAGES, deprecated=_DEPRECATED)
 
 __all__ = [
     "refine",
-    "refine_with_intermediates",
     "refine_with_confidence",
-    "RefineParams",
+    "ThesisParams",
     "GbpParams",
     "DEFAULT_METHOD",
-    "Refinement",
     "ScaleWarning",
     "METHODS",
     "Method",

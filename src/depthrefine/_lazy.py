@@ -16,6 +16,7 @@ of its siblings.
 from __future__ import annotations
 
 import importlib
+import warnings
 from types import ModuleType
 from typing import Any, Callable, Iterable, Mapping
 
@@ -49,7 +50,8 @@ class LazyModule:
         return f"<lazy module {self._name!r}, {state}>"
 
 
-def lazy_exports(package: str, exports: Mapping[str, Iterable[str]], submodules: Iterable[str] = ()) -> tuple[
+def lazy_exports(package: str, exports: Mapping[str, Iterable[str]], submodules: Iterable[str] = (), *,
+                 deprecated: Mapping[str, tuple[str, str, str]] | None = None) -> tuple[
         Callable[[str], Any], Callable[[], list[str]]]:
     """``__getattr__`` and ``__dir__`` for the package ``package`` (PEP 562).
 
@@ -60,19 +62,30 @@ def lazy_exports(package: str, exports: Mapping[str, Iterable[str]], submodules:
     before anything imported them. A name is imported on first use and then
     cached in the package's namespace, so later reads cost nothing.
 
+    ``deprecated`` maps an old name to ``(module, name, replacement)``: reading
+    it gives ``module``'s ``name`` (``module`` relative to the package, ``""``
+    for the package itself) after a ``DeprecationWarning`` that names
+    ``replacement``; it is not cached (every read warns) and not listed by ``dir``.
+
     Examples
     --------
     ``depthrefine`` itself is such a package:
 
     >>> import depthrefine
-    >>> depthrefine.__getattr__("RefineParams").__name__, "RefineParams" in dir(depthrefine)
-    ('RefineParams', True)
+    >>> depthrefine.__getattr__("ThesisParams").__name__, "ThesisParams" in dir(depthrefine)
+    ('ThesisParams', True)
     """
     module = importlib.import_module(package)
     names = {name: source for source, defined in exports.items() for name in defined}
     submodules = tuple(submodules)
+    old_names = dict(deprecated or {})
 
     def __getattr__(name: str) -> Any:
+        if name in old_names:
+            source, new, replacement = old_names[name]
+            warnings.warn(f"{package}.{name} is deprecated and goes in the next release; use {replacement}.",
+                          DeprecationWarning, stacklevel=2)
+            return getattr(importlib.import_module(source, package) if source else module, new)
         if name in names:
             value = getattr(importlib.import_module(names[name], package), name)
         elif name in submodules:

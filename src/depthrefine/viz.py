@@ -440,7 +440,8 @@ def comparison_figure(
 
 
 def depth_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str, title: str | None = None,
-                 limits: tuple[float, float] | None = None, confidence: np.ndarray | None = None):
+                 limits: tuple[float, float] | None = None, crop: tuple[int, int, int, int] | None = None,
+                 scale: float | None = None, confidence: np.ndarray | None = None):
     """One depth map with its colorbar, beside its color image when given (``show``, ``--preview``).
 
     Parameters
@@ -452,13 +453,33 @@ def depth_figure(depth: np.ndarray, rgb: np.ndarray | None = None, *, units: str
     units : str
     title : str, optional
     limits : (min, max), optional
+    crop : (x, y, width, height), optional
+        Show only this window of ``depth`` (pixels; the color image's same
+        field of view beside it), pixel for pixel.
+    scale : float, optional
+        Figure pixels per pixel of the finer image (1: its own resolution).
+        With ``crop`` or ``scale`` the panels are placed pixel-exact
+        (:func:`depthrefine._picture.pixel_figure`; ``crop`` alone picks a
+        whole scale, at most 16, that makes the window about 800 pixels wide); without
+        either, the whole map is fitted into a figure about 460 pixels wide
+        per panel.
     confidence : (H, W) ndarray, optional
-        A confidence map in [0, 1], shown to the right with its own colorbar.
+        A confidence map in [0, 1] on ``depth``'s grid, shown to the right
+        with its own colorbar (the same window with ``crop``).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    if crop is not None or scale is not None:
+        from ._picture import check_crop, pixel_figure
+
+        if scale is None:
+            _, _, w, _ = check_crop(crop, np.shape(depth)[:2])
+            finest = max(w, round(w * rgb.shape[1] / np.shape(depth)[1])) if rgb is not None else w
+            scale = float(max(1, min(16, 800 // max(finest, 1))))
+        return pixel_figure(depth, rgb, units=units, title=title, limits=limits, crop=crop, scale=scale,
+                            confidence=confidence)
     depth = np.asarray(depth, dtype=np.float32)
     valid = int(np.isfinite(depth).sum())
     caption = f"depth {depth.shape[1]}x{depth.shape[0]}, {100.0 * valid / max(depth.size, 1):.1f}% measured"

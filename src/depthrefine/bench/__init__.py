@@ -2,10 +2,15 @@
 
 - ``metrics``    error metrics against ground truth (RMSE, MAE, edge RMSE, bad pixels)
 - ``simulate``   a simulated low-resolution ToF sensor (our model) from ground truth
+- ``sensor``     ground truth seen by simulated real depth cameras beside the color camera (``sensor``)
+- ``holes``      leave-out hole filling on real captures (real hole shapes hidden on valid depth)
 - ``synthetic``  generated scenes with known ground truth, for tests
 - ``protocols``  the protocol registry: datasets, case builders, tuning scenes, published rows
 - ``runner``     runs methods x cases and scores them
-- ``report``     tables, figures and the HTML report
+- ``report``     tables and the HTML report
+- ``figures``    the report's scene figures: error maps on a scale per protocol, details where methods differ
+- ``suite``      the benchmark as ``depthrefine bench`` runs it: data folder, cases, case by case, report files
+- ``demo``       the scenes of ``depthrefine demo``: the methods on the shipped data, as figures and a record
 
 The files are read by :mod:`depthrefine.io` (the readers each protocol names).
 """
@@ -24,4 +29,5 @@ _EXPORTS = {
 __all__ = [name for names in _EXPORTS.values() for name in names]
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, (
-    "metrics", "simulate", "synthetic", "protocols", "runner", "report"))
+    "metrics", "simulate", "sensor", "holes", "synthetic", "protocols", "runner", "report", "figures", "suite",
+    "demo"))

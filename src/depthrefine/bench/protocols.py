@@ -17,9 +17,9 @@ The ``bench`` command, the report and the data readers all read
     scale, min-max normalised, the low-resolution input made by PIL bicubic
     downsampling (:func:`bicubic_downsample`), mapped back to 0..255 units;
     RMSE in those units after a 6-pixel border crop.
-``tof``
-    Simulated ToF (ours, :mod:`depthrefine.bench.simulate`) from the Park
-    ground truth and color, scored like ``park``.
+``tof``, ``sensor``
+    Simulated ToF (ours) from the Park ground truth and color, scored like ``park``: degraded on
+    the color grid (:mod:`.simulate`), or seen by a depth camera beside it (:mod:`.sensor`).
 ``realtof``
     A self-benchmark on real ToF captures (``real_tof/``): the real depth is
     the target, the input is its valid-aware block mean at x4 and x8
@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping, Protocol as _Typing
 # numpy, the runner and the simulator load on first use: ``depthrefine bench --help`` lists the
 # protocols (names, titles) without them (fast start-up).
 from .._lazy import numpy as np
+from .sensor import SENSOR_PEER_PARAMS, SENSOR_TUNING_SCENES, sensor_protocol_cases
 
 if TYPE_CHECKING:
     from .runner import BenchCase
@@ -104,8 +105,8 @@ class Protocol:
     reader : str
         The reader of :data:`depthrefine.io.DATASET_READERS` that reads ``folder``.
     build_case : callable
-        ``build_case(protocol, scene, scale) -> BenchCase``; raises ``ValueError``
-        when the scene has no usable case at that scale (the message says why).
+        ``build_case(protocol, scene, scale) -> BenchCase`` (or a list of cases); raises
+        ``ValueError`` when the scene has no usable case at that scale (the message says why).
     units : str
         The units of the scores.
     tuning_scenes : tuple of str
@@ -118,6 +119,8 @@ class Protocol:
         ``({"name", "source", "images", "values": {scale: rmse}}, ...)``.
     reader_options : mapping
         Keyword arguments for the reader (e.g. ``invalid`` for ``triplets``).
+    method_params : mapping
+        ``{method: {field: value}}`` tuned for this protocol, used on its cases instead of the defaults.
     """
 
     name: str
@@ -132,6 +135,7 @@ class Protocol:
     published_scenes: Mapping[int, Mapping[str, Any]] = field(default_factory=dict)
     published_means: tuple[Mapping[str, Any], ...] = ()
     reader_options: Mapping[str, Any] = field(default_factory=dict)
+    method_params: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
 
 
 #: The registered protocols, in report order.
@@ -343,8 +347,9 @@ def load_cases(data_dir: str | os.PathLike, protocol: str, scales: tuple[int, ..
     cases: list[BenchCase] = []
     for scene in scenes:
         for s in scales or sorted(scene.inputs):
-            try:
-                cases.append(entry.build_case(entry, scene, s))
+            try:  # a case, or a list of them (the sensor protocol: one per sensor model)
+                built = entry.build_case(entry, scene, s)
+                cases += built if isinstance(built, list) else [built]
             except (InputFileError, ValueError, OSError) as exc:
                 mine.append(f"{protocol}: skipped {scene.name} x{s}: {exc}")
     if not cases:
@@ -458,6 +463,13 @@ register_protocol(Protocol(
     tuning_scenes=("dolls", "laundry"),
     left_out_why={"dolls": "Park's Dolls, a tuning scene", "laundry": "Park's Laundry, a tuning scene"},
 ))
+
+register_protocol(Protocol(
+    name="sensor", title="Simulated real sensors (ours, docs/bench.md): the Park ground truth seen by an iToF and a "
+                         "dToF camera beside the color camera, reprojected onto it; RMSE, whole grid, levels",
+    folder="middlebury2005_park", layout="middlebury2005_park/<scene>/color.png and gt_disp.png (8-bit)",
+    reader="scene_folders", build_case=sensor_protocol_cases, units="disparity levels",
+    tuning_scenes=SENSOR_TUNING_SCENES, method_params=SENSOR_PEER_PARAMS))
 
 
 # ---------------------------------------------------------------- your own data: bench --pairs DIR

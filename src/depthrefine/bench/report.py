@@ -14,6 +14,8 @@ matplotlib ``Figure``; the ``bench`` command writes them:
 - :func:`rmse_scale_figure`: mean RMSE against scale per method;
 - :func:`html_page`: all of it on one page.
 
+The figures live in :mod:`depthrefine.bench.figures` and are re-exported here.
+
 Means leave out the peers' tuning scenes (``split == "tune"``) unless a
 protocol has no other scene.
 """
@@ -28,13 +30,11 @@ import statistics
 from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
-import numpy as np
-
-from .._lazy import cv2
 from ..methods._names import DEFAULT_METHOD
+from .figures import ERROR_PERCENTILE, choose_zoom, error_map, error_scale, scene_figure, zoom_where_methods_differ
 from .protocols import PROTOCOLS, left_out_reason
-from .runner import METRICS, ROW_FIELDS, BenchCase, BenchRow, mean_and_count, mean_or_nan
-from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS, depth_edges, valid_mask
+from .runner import METRICS, ROW_FIELDS, BenchRow, mean_and_count, mean_or_nan
+from .metrics import EDGE_RADIUS, EDGE_THRESHOLD_LEVELS
 
 __all__ = [
     "Table",
@@ -45,8 +45,11 @@ __all__ = [
     "summary_markdown",
     "terminal_table",
     "published_table",
+    "ERROR_PERCENTILE",
     "choose_zoom",
+    "zoom_where_methods_differ",
     "error_map",
+    "error_scale",
     "best_cells",
     "scene_figure",
     "rmse_scale_figure",
@@ -61,10 +64,6 @@ _METRIC_TITLES = {
     "bad_3": "bad > 3 (%)",
     "coverage": "coverage (%)",
 }
-
-#: Error maps are drawn from 0 to this many depth units (larger errors saturate).
-ERROR_MAP_MAX = 10.0
-
 
 @dataclass(frozen=True)
 class Table:
@@ -89,6 +88,17 @@ def _methods_in_order(rows: Sequence[BenchRow]) -> list[str]:
 def _protocols_in_order(rows: Sequence[BenchRow]) -> list[str]:
     present = {r.protocol for r in rows}
     return [p for p in PROTOCOLS if p in present] + sorted(present - set(PROTOCOLS))
+
+
+def _row_groups(rows: Sequence[BenchRow]) -> list[tuple[str, str, list[BenchRow]]]:
+    """``(label, protocol, rows)`` per protocol; the ``sensor`` protocol's split per sensor model (``<scene>-<model>``)."""
+    groups = []
+    for protocol in _protocols_in_order(rows):
+        mine = [r for r in rows if r.protocol == protocol]
+        models = sorted({r.scene.rsplit("-", 1)[-1] for r in mine}) if protocol == "sensor" else []
+        groups += ([(f"{protocol} {m}", protocol, [r for r in mine if r.scene.endswith(f"-{m}")]) for m in models]
+                   or [(protocol, protocol, mine)])
+    return groups
 
 
 def _scored_rows(rows: Sequence[BenchRow], protocol: str) -> tuple[list[BenchRow], bool]:
@@ -119,13 +129,13 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
     """
     tables: list[Table] = []
     methods = _methods_in_order(rows)
-    for protocol in _protocols_in_order(rows):
-        scored, fallback = _scored_rows(rows, protocol)
+    for label, protocol, group in _row_groups(rows):
+        scored, fallback = _scored_rows(group, protocol)
         scales = sorted({r.scale for r in scored})
         scenes = sorted({r.scene for r in scored})
         note = (f"mean over {len(scenes)} scene(s): {', '.join(scenes)}"
                 + (" (only tuning scenes are present, so they are included)" if fallback else ""))
-        tuned = sorted({r.scene for r in rows if r.protocol == protocol and r.split == "tune"})
+        tuned = sorted({r.scene for r in group if r.split == "tune"})
         if tuned and not fallback:
             why = ", ".join(f"{s} ({left_out_reason(protocol, s) or 'tuning scene'})" for s in tuned)
             note += f"; left out: {why}"
@@ -146,7 +156,7 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
             cells.append(_fmt(statistics.median(times), "seconds") if times else "–")
             body.append(tuple(cells))
         tables.append(Table(
-            title=f"{protocol}: mean RMSE — {PROTOCOLS[protocol].title if protocol in PROTOCOLS else protocol}",
+            title=f"{label}: mean RMSE — {PROTOCOLS[protocol].title if protocol in PROTOCOLS else protocol}",
             header=("method", *[f"×{s}" for s in scales], "s / image (median)"),
             body=tuple(body), note=note,
         ))
@@ -164,7 +174,7 @@ def summary_tables(rows: Sequence[BenchRow]) -> list[Table]:
                 body.append(tuple(cells))
         mp = mean_or_nan(r.megapixels for r in scored)
         tables.append(Table(
-            title=f"{protocol}: all metrics (means per method and scale)",
+            title=f"{label}: all metrics (means per method and scale)",
             header=("method", "scale", *[_METRIC_TITLES[k] for k in METRICS], "s / image"),
             body=tuple(body),
             note=f"{note}; images of {mp:.2f} MP on average; depth edges: jumps of ≥ "
@@ -179,8 +189,8 @@ OVERVIEW_PEERS = ("bicubic", "jbf", "guided", "fgs", "wmf")
 
 
 def overview_markdown(rows: Sequence[BenchRow], *, method: str = DEFAULT_METHOD,
-                      peers: Sequence[str] = OVERVIEW_PEERS) -> str:
-    """Every protocol on one table: mean RMSE per method, the scales of a protocol in one cell.
+                      peers: Sequence[str] = OVERVIEW_PEERS, metric: str = "rmse") -> str:
+    """Every protocol on one table: mean RMSE (or another ``metric``) per method, the scales of a protocol in one cell.
 
     A cell reads ``×4 / ×8 / ×16``; the best value of each protocol and scale
     is in bold. A last row gives how far ``method`` (the default) is below
@@ -195,18 +205,19 @@ def overview_markdown(rows: Sequence[BenchRow], *, method: str = DEFAULT_METHOD,
     >>> print(overview_markdown(rows).splitlines()[-1])
     | gbp below the best peer | 25 % / 25 % |
     """
-    protocols = _protocols_in_order(rows)
-    if not protocols:
+    groups = _row_groups(rows)
+    if not groups:
         return ""
+    protocols = [label for label, _, _ in groups]
     methods = _methods_in_order(rows)
     means: dict[tuple[str, str, int], float] = {}
     scales: dict[str, list[int]] = {}
-    for protocol in protocols:
-        scored, _ = _scored_rows(rows, protocol)
-        scales[protocol] = sorted({r.scale for r in scored})
+    for label, protocol, group in groups:
+        scored, _ = _scored_rows(group, protocol)
+        scales[label] = sorted({r.scale for r in scored})
         for m in methods:
-            for s in scales[protocol]:
-                means[protocol, m, s] = mean_or_nan(r.rmse for r in scored if r.method == m and r.scale == s)
+            for s in scales[label]:
+                means[label, m, s] = mean_or_nan(getattr(r, metric) for r in scored if r.method == m and r.scale == s)
 
     def best(protocol: str, s: int, among: Sequence[str]) -> float:
         values = [means[protocol, m, s] for m in among if math.isfinite(means.get((protocol, m, s), math.nan))]
@@ -439,13 +450,14 @@ def summary_markdown(
         out.append("")
     out.append("## Results")
     out.append("")
-    overview = overview_markdown(rows)
-    if overview:
-        present = [q for q in OVERVIEW_PEERS if q in _methods_in_order(rows)]
-        out += ["### All protocols: mean RMSE, ×4 / ×8 / ×16", "",
-                f"_Test scenes only; best of each protocol and scale in bold; the last row: how far the default "
-                f"method ({DEFAULT_METHOD}) is below the best of {', '.join(present) or 'the peers'}._", "",
-                overview]
+    for metric in ("rmse", "edge_rmse"):
+        overview = overview_markdown(rows, metric=metric)
+        if overview:
+            present = [q for q in OVERVIEW_PEERS if q in _methods_in_order(rows)]
+            out += [f"### All protocols: mean {_METRIC_TITLES[metric]}, ×4 / ×8 / ×16", "",
+                    f"_Test scenes only; best of each protocol and scale in bold; the last row: how far the default "
+                    f"method ({DEFAULT_METHOD}) is below the best of {', '.join(present) or 'the peers'}._", "",
+                    overview]
     for t in summary_tables(rows):
         out.append(_markdown_table(t))
     for t in published_table(rows):
@@ -469,104 +481,17 @@ def summary_markdown(
 
 # ---------------------------------------------------------------- figures
 
-def choose_zoom(depth_gt: np.ndarray, *, fraction: float = 0.25) -> tuple[int, int, int, int]:
-    """The detail window with the most ground-truth depth edges, ``(row0, row1, col0, col1)``.
-
-    The window is ``fraction`` of the image's height and width; candidates
-    lie on a grid of a quarter window, the first best one wins (deterministic).
-
-    Examples
-    --------
-    >>> gt = np.full((40, 40), 50.0); gt[30:, 30:] = 200.0
-    >>> choose_zoom(gt)
-    (28, 38, 28, 38)
-    """
-    gt = np.asarray(depth_gt, dtype=np.float64)
-    rows, cols = gt.shape
-    wr, wc = max(1, int(rows * fraction)), max(1, int(cols * fraction))
-    edges = depth_edges(gt, threshold=EDGE_THRESHOLD_LEVELS).astype(np.float64)
-    integral = np.pad(edges.cumsum(0).cumsum(1), ((1, 0), (1, 0)))
-    r0s = np.arange(0, rows - wr + 1, max(1, wr // 4))
-    c0s = np.arange(0, cols - wc + 1, max(1, wc // 4))
-    R, C = np.meshgrid(r0s, c0s, indexing="ij")
-    counts = integral[R + wr, C + wc] - integral[R, C + wc] - integral[R + wr, C] + integral[R, C]
-    i, j = np.unravel_index(int(np.argmax(counts)), counts.shape)
-    r0, c0 = int(r0s[i]), int(c0s[j])
-    return r0, r0 + wr, c0, c0 + wc
-
-
-def error_map(depth_pred: np.ndarray, depth_gt: np.ndarray, *, border: int = 0) -> np.ndarray:
-    """``|pred - gt|`` as float32, NaN where a pixel is not scored (no ground truth, border, no prediction).
-
-    Examples
-    --------
-    >>> error_map(np.array([[1.0, 5.0, 2.0]]), np.array([[1.5, np.nan, 2.0]])).tolist()
-    [[0.5, nan, 0.0]]
-    """
-    gt = np.asarray(depth_gt, dtype=np.float64)
-    pred = np.asarray(depth_pred, dtype=np.float64)
-    scored = valid_mask(gt, border=border) & np.isfinite(pred)
-    err = np.full(gt.shape, np.nan, np.float32)
-    err[scored] = np.abs(pred[scored] - gt[scored])
-    return err
-
-
-def scene_figure(case: BenchCase, results: Mapping[str, np.ndarray], *,
-                 rmse: Mapping[str, float] | None = None, zoom: tuple[int, int, int, int] | None = None,
-                 units: str | None = None):
-    """Ground truth, color, and per method its result and error map, each beside the same zoomed detail.
-
-    One row per method: result, detail, ``|error|``, detail. Results share
-    the ground truth's range and one depth colorbar; error maps go from 0 to
-    :data:`ERROR_MAP_MAX` (larger errors saturate) with their own colorbar;
-    pixels that are not scored are gray (:mod:`depthrefine.viz`).
-
-    Parameters
-    ----------
-    case : BenchCase
-    results : mapping
-        ``{method: (H, W) depth}``.
-    rmse : mapping, optional
-        ``{method: RMSE}``, put in the row titles.
-    zoom : (row0, row1, col0, col1), optional
-        Default: :func:`choose_zoom` on the ground truth.
-    units : str, optional
-        Default: the protocol's (:attr:`~depthrefine.bench.protocols.Protocol.units`).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from ..viz import Panel, depth_limits, figure_grid
-
-    zoom = choose_zoom(case.depth_gt) if zoom is None else zoom
-    units = units or (PROTOCOLS[case.protocol].units if case.protocol in PROTOCOLS else "depth units")
-    rows = [[Panel("ground truth", case.depth_gt), Panel("detail", case.depth_gt, detail=True),
-             Panel("color", case.rgb_hr, "color"), Panel("detail", case.rgb_hr, "color", detail=True)]]
-    for method, depth in results.items():
-        score = "" if rmse is None or method not in rmse else f": RMSE {rmse[method]:.2f}"
-        err = error_map(depth, case.depth_gt, border=case.border)
-        rows.append([Panel(f"{method}{score}", depth), Panel(f"{method}, detail", depth, detail=True),
-                     Panel(f"{method}: |error|", err, "error"), Panel(f"{method}: |error|, detail", err, "error",
-                                                                        detail=True)])
-    r0, r1, c0, c1 = zoom
-    return figure_grid(rows, units=units, limits=depth_limits(case.depth_gt), error_max=ERROR_MAP_MAX, zoom=zoom,
-                       panel_width=2.2, dpi=140,
-                       title=f"{case.protocol} · {case.scene} · ×{case.scale}: results and |error| against the "
-                             f"ground truth; details: rows {r0}-{r1}, cols {c0}-{c1}")
-
-
 def rmse_scale_figure(rows: Sequence[BenchRow]):
     """Mean RMSE (test scenes) against scale, one line per method, one panel per protocol."""
     from matplotlib.figure import Figure
 
-    protocols = _protocols_in_order(rows)
+    groups = _row_groups(rows)
     methods = _methods_in_order(rows)
-    fig = Figure(figsize=(4.2 * max(1, len(protocols)), 3.6), dpi=110, layout="constrained")
-    axes = fig.subplots(1, max(1, len(protocols)), squeeze=False)[0]
+    fig = Figure(figsize=(4.2 * max(1, len(groups)), 3.6), dpi=110, layout="constrained")
+    axes = fig.subplots(1, max(1, len(groups)), squeeze=False)[0]
     markers = "os^vDP*Xhd<>"
-    for ax, protocol in zip(axes, protocols):
-        scored, _ = _scored_rows(rows, protocol)
+    for ax, (label, protocol, group) in zip(axes, groups):
+        scored, _ = _scored_rows(group, protocol)
         scales = sorted({r.scale for r in scored})
         for i, m in enumerate(methods):
             ys = [mean_or_nan(r.rmse for r in scored if r.method == m and r.scale == s) for s in scales]
@@ -576,7 +501,7 @@ def rmse_scale_figure(rows: Sequence[BenchRow]):
         ax.minorticks_off()
         ax.set_xlabel("scale factor")
         ax.set_ylabel("mean RMSE")
-        ax.set_title(protocol, fontsize=10)
+        ax.set_title(label, fontsize=10)
         ax.grid(True, alpha=0.3)
     axes[-1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     return fig

@@ -24,6 +24,8 @@ memory, see ``docs/robustness.md``) and ``--debug``.
 from __future__ import annotations
 
 import argparse
+import atexit
+import gc
 import importlib
 import sys
 import traceback
@@ -48,6 +50,7 @@ COMMAND_MODULES = [
     "run",
     "export_ply",
     "bench",
+    "data",
     "batch",
 ]
 
@@ -100,6 +103,10 @@ def _modules_for(argv: Sequence[str] | None) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
+    if argv is None:   # the process's own command line: it exits after this
+        # numba leaves hundreds of thousands of objects; the collection at the interpreter's exit walked them
+        # all (half a second). Frozen, they are left to the process's end.
+        atexit.register(gc.freeze)
     argv = sys.argv[1:] if argv is None else argv
     parser = build_parser(argv)
     try:

@@ -8,13 +8,13 @@ runs it.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import math
-import re
 import sys
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames
+from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames, registered_method_options
+from ..methods.options import parse_count, parse_grid
+from ..methods.params import params_from_mapping, params_to_dict
 
 if TYPE_CHECKING:
     import numpy as np
@@ -45,25 +45,6 @@ def add_output(parser: argparse.ArgumentParser, *, help: str, metavar: str = "OU
 
 def add_overwrite(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true", help="replace existing output files")
-
-
-def parse_grid(text: str) -> tuple[int, int]:
-    """``"6x4"`` -> ``(6, 4)``: columns first, then rows (as ``--board``)."""
-    m = re.fullmatch(r"\s*(\d+)\s*[xX*]\s*(\d+)\s*", text)
-    if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
-        raise argparse.ArgumentTypeError(f"expected COLSxROWS (columns first) such as 6x4; got {text!r}")
-    return int(m.group(1)), int(m.group(2))
-
-
-def parse_count(text: str) -> int:
-    """A whole number >= 1 (``--clusters``)."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a whole number >= 1; got {text!r}")
-    return value
 
 
 def parse_pixel_count(text: str) -> int:
@@ -99,19 +80,32 @@ def add_depth_options(parser: argparse.ArgumentParser) -> None:
 
 def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "--method",
                        method_help: str | None = None) -> None:
-    """The refinement method (``method_flag``, dest ``method``), --patches / --patch-file, --clusters, --params."""
+    """The refinement method (``method_flag``, dest ``method``), --params, and every method's own options.
+
+    Each registered method's options (``Method.options``) go into an argument
+    group of their own, "NAME method options"; :func:`build_params` refuses
+    them with another method.
+    """
     parser.add_argument(method_flag, dest="method", default=DEFAULT_METHOD, choices=RegisteredMethodNames(),
                         help=method_help or f"refinement (upsampling) method (default: {DEFAULT_METHOD}, guided back-projection; "
                              "thesis: the thesis method as specified)")
-    grid = parser.add_mutually_exclusive_group()
-    grid.add_argument("--patches", type=parse_grid, metavar="COLSxROWS",
-                      help="automatic patch grid: COLS patches across, ROWS down, columns first as in --board "
-                           "(thesis default 4x4)")
-    grid.add_argument("--patch-file", metavar="F",
-                      help="manual patch layout: JSON list of [x, y, width, height] in color pixels")
-    parser.add_argument("--clusters", type=parse_count, metavar="K", help="k-means clusters per patch (thesis: 4)")
     parser.add_argument("--params", metavar="FILE",
                         help="method parameters as TOML (or JSON): key = value per parameter")
+    parser.set_defaults(method_flag=method_flag)
+    for name, options in registered_method_options().items():
+        group = parser.add_argument_group(f"{name} method options",
+                                          f"parameters of {method_flag} {name} (an error with another method)")
+        exclusive: dict[str, Any] = {}
+        for option in options:
+            if option.flag in parser._option_string_actions:  # another method's option of the same name
+                continue
+            where = group
+            if option.exclusive is not None:
+                if option.exclusive not in exclusive:
+                    exclusive[option.exclusive] = group.add_mutually_exclusive_group()
+                where = exclusive[option.exclusive]
+            where.add_argument(option.flag, dest=option.dest, type=option.type, metavar=option.metavar,
+                               help=option.help)
 
 
 def add_units_option(parser: argparse.ArgumentParser, *, help: str | None = None) -> None:
@@ -181,15 +175,13 @@ def output_depth(args: argparse.Namespace, depth: np.ndarray, input_dtype: Any) 
     """
     import numpy as np
 
-    from ..io import scale_to_dtype
+    from ..io import output_values
 
-    dtype = np.dtype(args.output_dtype or input_dtype)
-    if args.output_scale is None and args.output_dtype is None:
-        return depth, dtype
-    scale = 1.0 if args.output_scale is None else args.output_scale
     try:
-        return scale_to_dtype(depth, scale, dtype), dtype
+        return output_values(depth, input_dtype, scale=args.output_scale, dtype=args.output_dtype)
     except ValueError as exc:
+        scale = 1.0 if args.output_scale is None else args.output_scale
+        dtype = np.dtype(args.output_dtype or input_dtype)
         raise ValueError(f"--output-scale {scale:g} --output-dtype {dtype}: {exc}") from None
 
 
@@ -216,55 +208,55 @@ def build_params(args: argparse.Namespace, *, method: str | None = None,
     """The method's parameter dataclass: ``base`` (a settings file's), then --params FILE, then the options.
 
     ``method`` defaults to ``args.method``. Every command that refines builds
-    its parameters here, so the checks (--patches against a file's
-    ``patch_layout``, parameters for a method that takes none) are the same
-    everywhere.
+    its parameters here, so the checks (an option of another method, an
+    option against the file's value it contradicts, parameters for a method
+    that takes none) are the same everywhere.
     """
-    from ..io import read_mapping, read_patch_layout
-    from ..methods.registry import get_method
-    from ..methods.thesis.params import params_from_mapping
+    from ..io import read_mapping
+    from ..methods.registry import METHODS, get_method
 
     entry = get_method(args.method if method is None else method)
-    thesis_options = [flag for flag, value in (("--patches", args.patches), ("--patch-file", args.patch_file),
-                                               ("--clusters", args.clusters)) if value is not None]
-    if thesis_options and entry.params_type is not None and "patches" not in {
-            f.name for f in dataclasses.fields(entry.params_type)}:
-        raise ValueError(f"{' and '.join(thesis_options)} set the thesis method's patches and clusters; "
-                         f"the method is {entry.name!r}: add --method thesis.")
+    own = {option.flag: option for option in entry.options}
+    given: dict[str, tuple[Any, Any]] = {}  # flag -> (the chosen method's option, parsed value)
+    foreign: dict[str, list[str]] = {}      # another method -> its options given
+    seen: set[str] = set()
+    for owner in METHODS.values():
+        for option in owner.options:
+            value = getattr(args, option.dest, None)
+            if value is None or option.flag in seen:
+                continue
+            seen.add(option.flag)
+            if option.flag in own:
+                given[option.flag] = (own[option.flag], value)
+            else:
+                foreign.setdefault(owner.name, []).append(option.flag)
+    if foreign:
+        owner_name, flags = next(iter(foreign.items()))
+        raise ValueError(f"{' and '.join(flags)} set{'s' if len(flags) == 1 else ''} parameters of the {owner_name} "
+                         f"method; the method is {entry.name!r}: add {getattr(args, 'method_flag', '--method')} "
+                         f"{owner_name}.")
     overrides: dict[str, Any] = dict(base or {})
     if args.params:
         overrides.update(read_mapping(args.params, what="parameter"))
-    if args.patches is not None:
-        if overrides.get("patch_layout") is not None:
-            raise ValueError(
-                f"--patches {args.patches[0]}x{args.patches[1]} conflicts with patch_layout in parameter file "
-                f"{args.params}; drop one of them."
-            )
-        overrides["patches"] = args.patches
-    if args.patch_file is not None:
-        overrides["patch_layout"] = read_patch_layout(args.patch_file)
-    if args.clusters is not None:
-        if args.clusters < 1:
-            raise ValueError(f"--clusters must be >= 1: n_clusters must be >= 1; got {args.clusters}.")
-        overrides["n_clusters"] = args.clusters
+    for option, value in given.values():
+        for key in option.conflicts:
+            if overrides.get(key) is not None:
+                raise ValueError(f"{option.flag} {option.show(value)} conflicts with {key} in parameter file "
+                                 f"{args.params}; drop one of them.")
+    for option, value in given.values():
+        overrides[option.param] = option.param_value(value)
     if entry.params_type is None:
         if overrides:
-            raise ValueError(
-                f"method {entry.name!r} takes no parameters; drop "
-                f"{', '.join(sorted(overrides))} (from --params/--patches/--clusters)."
-            )
+            origin = "--params and the settings file" if base else "--params"
+            raise ValueError(f"method {entry.name!r} takes no parameters; drop {', '.join(sorted(overrides))} "
+                             f"(from {origin}).")
         return None
     source = f"parameter file {args.params}" if args.params else "parameters"
     return params_from_mapping(entry.params_type, overrides, source=source)
 
 
-def params_dict(params: Any) -> dict[str, Any]:
-    """JSON-ready dict of a parameter dataclass (``{}`` for ``None``)."""
-    if params is None:
-        return {}
-    if hasattr(params, "to_dict"):
-        return params.to_dict()
-    return dataclasses.asdict(params)
+#: The JSON-ready dict of a parameter dataclass (``{}`` for ``None``), as the commands record it.
+params_dict = params_to_dict
 
 
 def progress_bar(desc: str, *, enabled: bool | None = None, unit: str = "patch") -> tuple[Callable[[int, int], None], Callable[[], None]]:

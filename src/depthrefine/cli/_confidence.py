@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     import numpy as np
 
 __all__ = ["CONFIDENCE_FORMATS", "add_confidence_options", "parse_confidence_level", "wants_confidence",
-           "check_confidence_output", "refine_maybe_confident", "apply_min_confidence", "confidence_note",
+           "check_confidence_output", "refine_maybe_confident", "refine_pair_maybe_confident", "apply_min_confidence", "confidence_note",
            "read_shown_confidence"]
 
 #: ``batch --confidence FORMAT``: the file types of OUTDIR/confidence/<stem>.<FORMAT>.
@@ -87,25 +87,34 @@ def refine_maybe_confident(args: argparse.Namespace, depth_lr: np.ndarray, rgb_h
     return refine(depth_lr, rgb_hr, method=method, params=params, progress=progress), None
 
 
+def refine_pair_maybe_confident(args: argparse.Namespace, depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str,
+                                params: Any, progress: Callable[[int, int], None] | None = None
+                                ) -> tuple[np.ndarray, np.ndarray | None, str]:
+    """``run``'s refinement of an aligned pair (:func:`depthrefine.rig.chain.refine_pair`), its confidence map on
+    the same grid when the options ask for one (else None), and the scale step's note."""
+    from ..methods.confidence import confidence_on_grid, refine_with_confidence
+    from ..rig.chain import refine_pair
+
+    if not wants_confidence(args):
+        depth_hr, note = refine_pair(depth_lr, rgb_hr, method=method, params=params, progress=progress)
+        return depth_hr, None, note
+    kept: list = []
+
+    def solve(depth, rgb):
+        depth_out, confidence = refine_with_confidence(depth, rgb, method=method, params=params, progress=progress)
+        kept.append(confidence)
+        return depth_out
+
+    depth_hr, note = refine_pair(depth_lr, rgb_hr, method=method, solve=solve)
+    return depth_hr, confidence_on_grid(kept[0], depth_hr), note
+
+
 def apply_min_confidence(depth_hr: np.ndarray, confidence: np.ndarray | None,
                          minimum: float | None) -> tuple[np.ndarray, np.ndarray | None]:
-    """``depth_hr`` with NaN (written as 0, no measurement) where ``confidence < minimum``, and the confidence
-    with 0 there (no depth); both unchanged without a minimum.
+    """``--min-confidence``: :func:`depthrefine.methods.confidence.apply_min_confidence`."""
+    from ..methods.confidence import apply_min_confidence as apply
 
-    Examples
-    --------
-    >>> import numpy as np
-    >>> depth, confidence = apply_min_confidence(np.array([1.0, 2.0]), np.array([0.2, 0.8]), 0.5)
-    >>> depth.tolist(), confidence.tolist()
-    ([nan, 2.0], [0.0, 0.800000011920929])
-    """
-    import numpy as np
-
-    if minimum is None or confidence is None:
-        return depth_hr, confidence
-    below = confidence < minimum
-    return (np.where(below, np.float32(np.nan), depth_hr).astype(np.float32),
-            np.where(below, np.float32(0.0), confidence).astype(np.float32))
+    return apply(depth_hr, confidence, minimum)
 
 
 def confidence_note(confidence: np.ndarray, minimum: float | None) -> str:

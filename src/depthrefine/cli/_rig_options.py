@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import sys
 from typing import TYPE_CHECKING, Any
 
 from ..rig._names import ALIGN_METHODS, COLOR_SIDES, ENCODINGS
 from . import CliError
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..io import ChainSettings
 
-__all__ = ["add_units_options", "add_align_options", "chain_settings"]
+__all__ = ["add_units_options", "add_align_options", "align_overrides", "chain_settings", "warn_implausible_units"]
 
 
 def add_units_options(p: argparse.ArgumentParser) -> None:
@@ -25,21 +28,36 @@ def add_units_options(p: argparse.ArgumentParser) -> None:
                             "(255 at z_min metres: C = 255 * z_min)")
 
 
-def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argparse.Action] | None = None) -> None:
-    """The alignment options shared by ``align`` and ``run`` (None = take the settings file's value).
+def _factor(text: str) -> float:
+    """``--factor``: a number >= 1, kept an integer when it is one (``"2"`` -> 2, ``"1.21"`` -> 1.21)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number >= 1 such as 2 or 1.21; got {text!r}") from None
+    if not value >= 1 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a number >= 1 such as 2 or 1.21; got {text!r}")
+    return int(value) if value.is_integer() else value
 
-    ``--method`` (dest ``align_method``) is the alignment method in both;
-    ``method_action`` replaces its plain store (it then checks the choices).
+
+def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argparse.Action] | None = None,
+                      method_flag: str = "--method") -> None:
+    """The alignment options shared by ``align``, ``run`` and ``batch`` (None = take the settings file's value).
+
+    ``method_flag`` (dest ``align_method``) is the alignment method: ``--method``
+    in ``align`` and ``run``, ``--align-method`` in ``batch`` (whose
+    ``--method`` is the refinement's); ``method_action`` replaces its plain
+    store (it then checks the choices).
     """
     how: dict[str, Any] = ({"action": method_action, "metavar": "{" + ",".join(ALIGN_METHODS) + "}"}
                            if method_action is not None else {"choices": ALIGN_METHODS})
-    p.add_argument("--method", dest="align_method", default=None, **how,
+    p.add_argument(method_flag, dest="align_method", default=None, **how,
                    help="alignment method: reproject (calibrated, any rig; default) or shift (the thesis's "
                         "horizontal shift: a parallel rig whose color image shows the depth camera's view; "
                         "refused when the background would land more than 1 depth pixel off)")
     add_units_options(p)
-    p.add_argument("--factor", type=int, metavar="S",
-                   help="reproject: scale factor s, the output is the color grid / s (default: focal-length ratio)")
+    p.add_argument("--factor", type=_factor, metavar="S",
+                   help="reproject: the output is the color grid / S, S >= 1 (default: the focal-length ratio, "
+                        "rounded when at least 2: a grid at the depth camera's resolution)")
     p.add_argument("--radial", action="store_true", default=None,
                    help="reproject: the depth is the distance along each ray, not Z")
     p.add_argument("--slope", type=float, metavar="K",
@@ -58,18 +76,8 @@ def add_align_options(p: argparse.ArgumentParser, *, method_action: type[argpars
                         "the depth is aligned to the undistorted color camera")
 
 
-def chain_settings(args: argparse.Namespace) -> ChainSettings:
-    """The chain settings of ``--rig`` (and ``--settings``), with the command-line options on top."""
-    from ..io import read_chain_settings
-
-    base = read_chain_settings(args.rig)
-    settings_file = getattr(args, "settings", None)
-    if settings_file:
-        extra = read_chain_settings(settings_file)
-        base = dataclasses.replace(extra, rig=base.rig or extra.rig,
-                                   rig_source=base.rig_source if base.rig is not None else extra.rig_source)
-    if base.rig is None:
-        raise CliError(f"{args.rig} holds no rig; give a rig file from `depthrefine calibrate-stereo`.")
+def align_overrides(args: argparse.Namespace) -> dict[str, Any]:
+    """The ``AlignSettings`` fields the alignment options set (the options left out are not in it)."""
     overrides: dict[str, Any] = {}
     for option, key in (("align_method", "method"), ("factor", "factor"), ("radial", "radial"),
                         ("slope", "slope"), ("background", "background"), ("color_side", "color_side"),
@@ -83,8 +91,66 @@ def chain_settings(args: argparse.Namespace) -> ChainSettings:
         overrides.update(inverse_scale=args.inverse_depth_scale, depth_units=None)
     if args.no_undistort:
         overrides.update(undistort_depth=False, undistort_color=False)
+    return overrides
+
+
+def chain_settings(args: argparse.Namespace) -> ChainSettings:
+    """The chain settings of ``--rig`` (and ``--settings``), with the command-line options on top."""
+    from ..io import read_chain_settings
+
+    base = read_chain_settings(args.rig)
+    settings_file = getattr(args, "settings", None)
+    if settings_file:
+        extra = read_chain_settings(settings_file)
+        base = dataclasses.replace(extra, rig=base.rig or extra.rig,
+                                   rig_source=base.rig_source if base.rig is not None else extra.rig_source)
+    if base.rig is None:
+        raise CliError(f"{args.rig} holds no rig; give a rig file from `depthrefine calibrate-stereo`.")
+    overrides = align_overrides(args)
     try:
         align = dataclasses.replace(base.align, **overrides)
     except (TypeError, ValueError) as exc:
         raise CliError(f"alignment settings: {exc}") from None
     return dataclasses.replace(base, align=align)
+
+
+def warn_implausible_units(command: str, depth: np.ndarray, *, depth_units: float | None,
+                           inverse_scale: float | None) -> None:
+    """A warning line on stderr when the units put the median depth outside 5 cm .. 50 m (PLAUSIBLE_DEPTH_M)."""
+    import math
+
+    from ..rig.pointcloud import PLAUSIBLE_DEPTH_M, median_metres
+
+    if depth_units is None and inverse_scale is None:
+        return
+    median = median_metres(depth, depth_units=depth_units, inverse_scale=inverse_scale)
+    lo, hi = PLAUSIBLE_DEPTH_M
+    if not math.isfinite(median) or lo <= median <= hi:
+        return
+    if depth_units is not None:
+        units = f"depth units {depth_units:g} m per stored value"
+        stored = median / depth_units
+        fits = [u for u in (1.0, 0.01, 0.001, 0.0001) if lo <= stored * u <= hi]
+        names = {1.0: "metres", 0.01: "centimetres", 0.001: "millimetres", 0.0001: "0.1 mm"}
+        best = min(fits, key=lambda u: abs(math.log(stored * u / 2.0)), default=None)  # nearest a room's 2 m
+        hint = f"; if the file holds {names[best]}, give --depth-units {best:g}" if best else ""
+    else:
+        units = f"inverse depth scale {inverse_scale:g} (metres = scale / value)"
+        hint = ""
+    print(f"depthrefine {command}: warning: {units} give a median depth of {_length(median)}, outside the "
+          f"{_length(lo)} .. {_length(hi)} a ToF camera measures: the units are probably wrong{hint}.",
+          file=sys.stderr)
+
+
+def _length(metres: float) -> str:
+    """``0.05`` -> ``"5 cm"``, ``1930.0`` -> ``"1.93 km"``.
+
+    Examples
+    --------
+    >>> _length(0.05), _length(2.5), _length(1930.0), _length(0.0004)
+    ('5 cm', '2.5 m', '1.93 km', '0.4 mm')
+    """
+    for unit, size in (("km", 1000.0), ("m", 1.0), ("cm", 0.01), ("mm", 0.001)):
+        if metres >= size or unit == "mm":
+            return f"{metres / size:.3g} {unit}"
+    return f"{metres:g} m"

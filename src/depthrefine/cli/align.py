@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from ._common import add_depth_options, add_overwrite
-from ._rig_options import add_align_options, chain_settings
+from ._rig_options import add_align_options, chain_settings, warn_implausible_units
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -40,6 +40,8 @@ def run_align(args: argparse.Namespace) -> int:
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES, inputs=(args.depth, args.rig))
     settings = chain_settings(args)
     depth = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
+    warn_implausible_units("align", depth, depth_units=settings.align.depth_units,
+                           inverse_scale=settings.align.inverse_scale)
     check_depth_format(out, depth.dtype)
     depth_lr, notes = align_depth(depth, settings.rig, settings=settings.align)
     write_depth(out, depth_lr, dtype=depth.dtype, overwrite=args.overwrite)

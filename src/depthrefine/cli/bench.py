@@ -1,28 +1,18 @@
-"""``depthrefine bench``: score the methods on data with ground truth, under the published protocols."""
+"""``depthrefine bench``: score the methods on data with ground truth, under the published protocols.
+
+The work is :mod:`depthrefine.bench.suite`'s; this module parses, prints and writes.
+"""
 
 from __future__ import annotations
 
 import argparse
-import json
-import os
 import sys
 from pathlib import Path
 
-from .. import __version__
-from ..bench.protocols import (PAIRS, PROTOCOLS, TUNING_SCENES, left_out_reason, load_cases, pairs_protocol,
-                               register_protocol, tuned_on_scenes)
-from ..io._files import InputFileError, atomic_directory, check_output_dir
+from ..bench.protocols import PAIRS, PROTOCOLS
+from ..bench.suite import DATA_ENV
 from ..methods._names import RegisteredMethodNames
-from ._common import add_units_option, params_dict
-
-#: The environment variable naming the data folder when ``--data`` is not given.
-DATA_ENV = "DEPTHREFINE_DATA"
-
-
-def checkout_data_dir() -> Path | None:
-    """``../shared/data`` beside the source checkout this package runs from (None for an installed wheel)."""
-    root = Path(__file__).resolve().parents[3]  # <checkout>/src/depthrefine/cli/bench.py
-    return root.parent / "shared" / "data" if (root / "pyproject.toml").is_file() else None
+from ._common import add_units_option
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -63,29 +53,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _data_dir(arg: str | None) -> Path:
-    """``--data``, else ``$DEPTHREFINE_DATA``, else ``../shared/data`` beside the source checkout."""
-    if arg is not None:
-        data = Path(arg)
-        if not data.is_dir():
-            raise InputFileError(f"--data {data} does not exist or is not a folder.")
-        return data
-    env = os.environ.get(DATA_ENV)
-    if env:
-        if not Path(env).is_dir():
-            raise InputFileError(f"${DATA_ENV} is {env}, which does not exist or is not a folder; "
-                                 "fix it or pass --data DIR.")
-        return Path(env)
-    beside = checkout_data_dir()
-    if beside is not None and beside.is_dir():
-        return beside
-    looked = f"{beside}" if beside is not None else "../shared/data beside a source checkout (this is an installed copy)"
-    raise InputFileError(
-        f"no --data given, ${DATA_ENV} is not set and {looked} does not exist; pass --data DIR (a folder "
-        f"laid out as shared/data), set {DATA_ENV}=DIR, or score your own files with --pairs DIR."
-    )
-
-
 def _methods(arg: str | None) -> list[str]:
     from ..methods.registry import METHODS, get_method
 
@@ -99,183 +66,73 @@ def _methods(arg: str | None) -> list[str]:
     return list(dict.fromkeys(names))
 
 
+def _note(text: str) -> None:
+    print(f"depthrefine bench: note: {text}", file=sys.stderr)
+
+
 def run(args: argparse.Namespace) -> int:
     from ..bench import report
+    from ..bench.runner import DEFAULT_SCALES, parse_scales
+    from ..bench.suite import find_data_folder, pair_cases, protocol_cases
+    from ..io import atomic_directory, check_output_dir
 
     methods = _methods(args.methods)
     if args.report:
         check_output_dir(args.report, overwrite=args.overwrite, what="report folder")
     if args.pairs is not None:
-        cases, skipped = _pair_cases(args)
+        if args.protocol is not None or args.scales is not None:
+            raise ValueError("--pairs DIR takes neither --protocol nor --scales: the triplets are the protocol and "
+                             "their files give the scales.")
+        cases, skipped = pair_cases(args.pairs, units=args.units, invalid=args.invalid, crop=args.crop, note=_note)
     else:
         for option in ("units", "crop"):
             if getattr(args, option) not in (None, 0):
                 raise ValueError(f"--{option} is for --pairs DIR (the published protocols fix their own).")
         if args.invalid != 0:
             raise ValueError("--invalid is for --pairs DIR (the published protocols fix their own).")
-        cases, skipped = _protocol_cases(args)
-    scales = tuple(sorted({case.scale for case in cases}))
+        scales = parse_scales(args.scales if args.scales is not None else ",".join(map(str, DEFAULT_SCALES)))
+        cases, skipped = protocol_cases(find_data_folder(args.data), args.protocol or "all", scales, note=_note)
     if args.report:
         with atomic_directory(args.report, overwrite=args.overwrite) as tmp:
-            rows = _run(cases, methods, scales, tmp, skipped)
+            rows = _run(cases, methods, tmp, skipped)
     else:
-        rows = _run(cases, methods, scales, None, skipped)
+        rows = _run(cases, methods, None, skipped)
     print(report.terminal_table(rows), end="")
     if args.report:
         print(f"wrote {Path(args.report) / 'index.html'} (and scores.csv, summary.md, figures)", file=sys.stderr)
     return 0
 
 
-def _pair_cases(args: argparse.Namespace):
-    """The cases of ``--pairs DIR``: one per triplet, at the scale its files give."""
-    if args.protocol is not None or args.scales is not None:
-        raise ValueError("--pairs DIR takes neither --protocol nor --scales: the triplets are the protocol and "
-                         "their files give the scales.")
-    folder = Path(args.pairs)
-    if not folder.is_dir():
-        raise InputFileError(f"--pairs {folder} does not exist or is not a folder.")
-    register_protocol(pairs_protocol(folder, units=args.units, invalid=args.invalid, crop=args.crop), replace=True)
-    skipped: list[str] = []
-    cases = load_cases(folder, PAIRS, (), notes=skipped)
-    for note in skipped:
-        print(f"depthrefine bench: note: {note}", file=sys.stderr)
-    return cases, skipped
-
-
-def _protocol_cases(args: argparse.Namespace):
-    """The cases of the published protocols under ``--data`` (or its default)."""
-    from ..bench.runner import DEFAULT_SCALES, parse_scales
-
-    scales = parse_scales(args.scales if args.scales is not None else ",".join(map(str, DEFAULT_SCALES)))
-    data = _data_dir(args.data)
-    protocol = args.protocol or "all"
-    protocols = [p for p in PROTOCOLS if p != PAIRS] if protocol == "all" else [protocol]
-    if protocol == "all":
-        folders = {p: PROTOCOLS[p].folder for p in protocols}
-        present = [p for p in protocols if (data / folders[p]).is_dir() or data.name == folders[p]]
-        if not present:
-            raise InputFileError(f"{data} holds none of the dataset folders "
-                                 f"{sorted(set(folders.values()))}; pass --data DIR laid out as shared/data.")
-        for name in protocols:
-            if name not in present:
-                print(f"depthrefine bench: note: {data} has no {folders[name]}/; "
-                      f"skipping the {name} protocol.", file=sys.stderr)
-        protocols = present
-    cases = []
-    skipped: list[str] = []
-    for name in protocols:
-        if len(protocols) == 1:
-            cases += load_cases(data, name, scales, notes=skipped)
-            continue
-        try:
-            cases += load_cases(data, name, scales, notes=skipped)
-        except InputFileError as exc:  # --protocol all: one unusable dataset does not stop the others
-            skipped.append(f"{name}: skipped the whole protocol: {exc}")
-    for note in skipped:
-        print(f"depthrefine bench: note: {note}", file=sys.stderr)
-    if not cases:
-        raise InputFileError(f"{data}: no usable case in any protocol (see the notes above); "
-                             "lay it out as shared/data (e.g. middlebury2005_park/<scene>/color.png, gt_disp.png).")
-    return cases, skipped
-
-
-#: With --pairs, a figure for at most this many triplets.
-MAX_PAIR_FIGURES = 12
-
-
-def _run(cases, methods, scales, folder: Path | None, skipped=()):
-    """Run case by case (results kept only for the figure of that case), writing the report into ``folder``."""
+def _run(cases, methods, folder: Path | None, skipped=()):
+    """Run case by case with a progress bar, writing each case's figure and then the report into ``folder``."""
     from tqdm import tqdm
 
-    from ..bench import report
-    from ..bench.runner import run_benchmark
+    from ..bench.suite import report_files, run_suite
+    from ..io import write_figure
 
-    figure_scale = 8 if 8 in scales else max(scales)
-    total = len(cases) * len(methods)
     rows = []
     curves: dict = {}   # the sparsification curves of the confidence maps
     figures: list[tuple[str, str]] = []
-    bar = tqdm(total=total, desc="bench", unit="run", disable=not sys.stderr.isatty(), leave=False)
+    bar = tqdm(total=len(cases) * len(methods), desc="bench", unit="run", disable=not sys.stderr.isatty(),
+               leave=False)
+
+    def progress(done: int, _total: int, case: str) -> None:
+        bar.set_postfix_str(case, refresh=False)
+        bar.update(done - bar.n)
+
     try:
-        for case in cases:
-            bar.set_postfix_str(f"{case.protocol} {case.scene} x{case.scale}")
-            offset = bar.n
-            if case.protocol == PAIRS:
-                want = folder is not None and len(figures) < MAX_PAIR_FIGURES
-            else:
-                want = folder is not None and case.scale == figure_scale
-            result = run_benchmark([case], methods, keep=(lambda c: want), confidence=True,
-                                   progress=lambda done, _total: bar.update(offset + done - bar.n))
-            rows += result.rows
-            curves.update(result.curves)
-            if want:
-                name = f"fig_{case.protocol}_{case.scene}_x{case.scale}.png"
-                fig = report.scene_figure(case, result.kept[case.key],
-                                          rmse={r.method: r.rmse for r in result.rows})
-                fig.savefig(folder / name)
-                split = " (a tuning scene of the peers)" if case.split == "tune" else ""
-                figures.append((f"{case.protocol} · {case.scene} · ×{case.scale}{split}", name))
+        for case_rows, figure in run_suite(cases, methods, figures=folder is not None, progress=progress,
+                                           curves=curves):
+            rows += case_rows
+            if figure is not None:
+                write_figure(folder / figure.name, figure.figure)
+                figures.append((figure.caption, figure.name))
     finally:
         bar.close()
     if folder is not None:
-        _write_report(folder, rows, methods, figures, skipped, curves=curves)
+        for name, content in report_files(rows, methods, figures, skipped, curves=curves).items():
+            if isinstance(content, str):
+                (folder / name).write_text(content, encoding="utf-8")
+            else:
+                write_figure(folder / name, content)
     return rows
-
-
-def _write_report(folder: Path, rows, methods, figures, skipped=(), *, curves=None) -> None:
-    from ..bench import report
-    from ..methods.peers import fast_bilateral_solver_status
-    from ..methods.registry import get_method
-
-    params_used = {m: params_dict(get_method(m).default_params()) for m in methods}
-    tuned = ", ".join(f"{p}: {', '.join(tuned_on_scenes(p))}" for p in TUNING_SCENES if tuned_on_scenes(p))
-    left_out = "; ".join(f"{p} {s} ({left_out_reason(p, s)})" for p, scenes in TUNING_SCENES.items() for s in scenes)
-    present = {r.protocol for r in rows}
-    notes = [
-        f"The OpenCV peers (jbf, guided, fgs, wmf) use parameters tuned with benchmarks/tune_peers.py on "
-        f"{tuned}. Every mean leaves out these scenes: {left_out}. The thesis method runs with its thesis "
-        "defaults.",
-    ]
-    if "gbp" in methods:
-        notes.append("gbp's defaults were chosen on the same tuning scenes, except hole_margin and local_range "
-                     "(picked with the realtof Kinect capture in view) and point_lambda (picked on generated "
-                     "point-sampled scenes; no benchmark input is point-sampled); the lu scores were seen while "
-                     "the defaults were explored; see docs/bench.md.")
-    if "lu" in present:
-        notes.append("The tuning set was revised after the lu results had been seen (noise-free middlebury30 "
-                     "scenes were added when the Park-only tuning oversmoothed lu at x16), so lu is not a clean "
-                     "hold-out.")
-    if "tof" in present:
-        notes.append("The tof protocol's input is simulated with our own sensor model (footprint integration, "
-                     "noise growing with distance, dropouts on dark surfaces, 8-bit quantisation, fixed seed; see "
-                     "docs/bench.md): it is not a published protocol.")
-    if "bicubic" in methods:
-        notes.append("bicubic is OpenCV INTER_CUBIC, not the PIL bicubic of the READMEs' sanity rows (see "
-                     "docs/bench.md).")
-    if PAIRS in present:
-        notes.append(f"{PAIRS}: {PROTOCOLS[PAIRS].title}; the scale of each triplet is the ratio of its grids.")
-    notes.append("Times are wall-clock seconds per image on this machine (shared, so noisy): compare ratios "
-                 "within a run.")
-    reason = fast_bilateral_solver_status()
-    if reason:
-        notes.append(f"The fast bilateral solver is not benchmarked: {reason}")
-    notes += [f"Skipped (missing or unusable input): {s}" for s in skipped]
-    plot = "rmse_vs_scale.png"
-    report.rmse_scale_figure(rows).savefig(folder / plot)
-    confidence_plot = None
-    if curves:
-        from ..bench.confidence_report import sparsification_figure
-
-        confidence_plot = "sparsification.png"
-        sparsification_figure(curves, rows).savefig(folder / confidence_plot)
-    (folder / "scores.csv").write_text(report.csv_text(rows), encoding="utf-8")
-    (folder / "summary.md").write_text(
-        report.summary_markdown(rows, params_used=params_used, notes=notes, figures=figures, plot=plot,
-                                confidence_plot=confidence_plot),
-        encoding="utf-8")
-    (folder / "index.html").write_text(
-        report.html_page(rows, params_used=params_used, notes=notes, figures=figures, plot=plot,
-                         confidence_plot=confidence_plot),
-        encoding="utf-8")
-    (folder / "run.json").write_text(json.dumps({"depthrefine": __version__, "methods": methods,
-                                                 "params": params_used}, indent=2) + "\n", encoding="utf-8")

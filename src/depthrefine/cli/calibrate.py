@@ -5,9 +5,10 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..rig._names import MIN_VIEWS
+from ..rig._names import DEFAULT_MAX_RMS, LENS_MODELS, MIN_VIEWS, RECOMMENDED_VIEWS
 from . import CliError
 from ._common import add_overwrite
 
@@ -15,6 +16,7 @@ if TYPE_CHECKING:  # what a command needs is imported where it runs: --help stay
     import numpy as np
 
     from ..rig.boards import Board, BoardView
+    from ..rig.calibrate import CalibrationFit
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
@@ -48,14 +50,20 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
             "Find a checkerboard or ChArUco board in each image (the ToF camera's intensity/amplitude images, "
             "thesis 3.2.1; a ChArUco view may show part of the board), "
             "fit OpenCV's pinhole + distortion model and write K, dist (OpenCV order), image_size "
-            "[width, height] and the RMS reprojection error (pixels) as JSON. Images where the board is not "
-            f"found are reported and skipped; at least {MIN_VIEWS} must remain (10-20 covering the image "
-            "are best)."
+            "[width, height] and the RMS reprojection error (pixels) as JSON, and print each view's error. "
+            f"Images where the board is not found are reported and skipped; at least {MIN_VIEWS} must remain. "
+            "A fit over --max-rms is refused (nothing written); fewer views than the lens model needs for a "
+            "stable fit is a warning ("
+            + ", ".join(f"{model}: {n}" for model, n in RECOMMENDED_VIEWS.items())
+            + " views, covering the whole image; see docs/rig.md)."
         ),
     )
     p.add_argument("images", nargs="+", metavar="IMAGES", help="checkerboard images of one camera")
     add_board_options(p)
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="camera file to write (.json)")
+    p.add_argument("--report", metavar="DIR",
+                   help="also write DIR/coverage.png (the corners of all views over the image, empty cells shaded, "
+                        "and each corner's reprojection residual) and DIR/views.csv (each view's error)")
     add_overwrite(p)
     p.set_defaults(func=run_calibrate)
 
@@ -66,7 +74,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
             "Pairs of images of the same board pose, one from the depth camera (intensity) and one from the "
             "color camera, in the same order. Writes both cameras' intrinsics and the rotation R and "
             "translation t (metres) from the depth camera to the color camera as JSON "
-            "(X_color = R X_depth + t). Pairs where either image lacks the board are reported and skipped."
+            "(X_color = R X_depth + t). Pairs where either image lacks the board are reported and skipped. "
+            "A fit (of a camera from the pairs, or of the pair) over --max-rms is refused, nothing written; "
+            "each pair's error is printed."
         ),
     )
     s.add_argument("--depth-images", nargs="+", required=True, metavar="IMG",
@@ -102,7 +112,20 @@ def add_board_options(p: argparse.ArgumentParser, *, fit: bool = True) -> None:
                             "used does; k3 over-fits with few views)")
         p.add_argument("--rational", action="store_true",
                        help="fit OpenCV's rational lens model (k1..k6, p1, p2: 8 coefficients), for wide-angle "
-                            "lenses such as the Azure Kinect's")
+                            f"lenses such as the Azure Kinect's (needs about {RECOMMENDED_VIEWS['rational']} views)")
+        p.add_argument("--max-rms", type=_max_rms, default=DEFAULT_MAX_RMS, metavar="PX",
+                       help=f"refuse a fit whose RMS reprojection error is over PX pixels (default "
+                            f"{DEFAULT_MAX_RMS:g}; good fits reach 0.1-0.5 px); nothing is written")
+
+
+def _max_rms(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0:  # NaN fails too; inf turns the check off
+        raise argparse.ArgumentTypeError(f"expected a positive number of pixels such as 1.0; got {text!r}")
+    return value
 
 
 def board_from_args(args: argparse.Namespace, *, need_unit: bool = False) -> Board:
@@ -192,11 +215,13 @@ def _square(args: argparse.Namespace, *, need_unit: bool) -> float:
 def run_calibrate(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..io import check_output, write_camera
+    from ..io import atomic_directory, check_output, check_output_dir, write_camera
     from ..rig.boards import usable
-    from ..rig.calibrate import calibrate_from_views
+    from ..rig.calibrate import fit_camera
 
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=tuple(args.images))
+    if args.report:
+        check_output_dir(args.report, overwrite=args.overwrite, what="--report folder")
     board = board_from_args(args)
     found, size = _detect(args.images, board, "image")
     skipped = [path for path, v in zip(args.images, found) if not usable(v, board)]
@@ -207,23 +232,87 @@ def run_calibrate(args: argparse.Namespace) -> int:
             f"the board was found in {len(views)} of {len(args.images)} images; calibration needs at least "
             f"{MIN_VIEWS}{detail}{_not_found(skipped)}. {hint}, and take more views."
         )
-    for path in skipped:  # after the check, so that an error stays one line
+    used = [p for p, v in zip(args.images, found) if usable(v, board)]
+    fit = fit_camera(views, board=board, image_size=size, estimate_k3=args.k3, rational=args.rational)
+    check_fit(fit, used, args.max_rms, what="calibration")
+    for path in skipped:  # after the checks, so that an error stays one line
         print(f"depthrefine calibrate: board {board.spec} not found in {path}; skipped", file=sys.stderr)
-    camera = calibrate_from_views(views, board=board, image_size=size, estimate_k3=args.k3, rational=args.rational)
+    warn_few_views(fit.model, len(views), "views")
+    print_view_errors(used, fit.view_rms, [v.count for v in views])
+    camera = fit.camera
     extra = {
         "board": list(board.inner_corners) if board.kind == "checkerboard" else board.to_dict(),
         "square_size_m": board.square_size,
-        "images_used": [p for p, v in zip(args.images, found) if usable(v, board)],
+        "lens_model": fit.model,
+        "images_used": used,
         "images_skipped": skipped,
+        "view_rms": [round(float(e), 4) for e in fit.view_rms],
     }
     if board.kind == "charuco":
         extra["corners_used"] = [v.count for v in views]
-    write_camera(out, camera, overwrite=args.overwrite, extra=extra)
+    if args.report:
+        with atomic_directory(args.report, overwrite=args.overwrite) as tmp:
+            _write_report(tmp, fit, used, title=f"calibrate: {len(views)} views, {fit.model} lens model")
+            write_camera(out, camera, overwrite=args.overwrite, extra=extra)
+    else:
+        write_camera(out, camera, overwrite=args.overwrite, extra=extra)
     fx, fy = camera.focal
     print(f"wrote {out}: fx {fx:.2f}, fy {fy:.2f}, cx {camera.K[0, 2]:.2f}, cy {camera.K[1, 2]:.2f} px, "
           f"dist {np.round(camera.dist, 4).tolist()}, RMS {camera.rms:.3f} px from {len(views)} of "
           f"{len(args.images)} images", file=sys.stderr)
+    if args.report:
+        print(f"wrote {args.report}/coverage.png and views.csv", file=sys.stderr)
     return 0
+
+
+def check_fit(fit: CalibrationFit, names: list[str], max_rms: float, *, what: str) -> None:
+    """Refuse (``CliError``, one line) a fit whose RMS error is over ``max_rms``, naming the worst views."""
+    rms = fit.camera.rms
+    if rms is None or rms <= max_rms:
+        return
+    raise CliError(
+        f"{what} refused: RMS reprojection error {rms:.2f} px is over --max-rms {max_rms:g} px "
+        f"({len(fit.views)} views, {fit.model} lens model; worst views: {_worst(names, fit.view_rms)}). "
+        "Check --board (a ChArUco board is charuco:COLSxROWS) and --square, leave out the worst views or "
+        "take new ones; nothing was written."
+    )
+
+
+def _worst(names: list[str], errors, count: int = 3) -> str:
+    """``"a.png 6.10 px, b.png 4.02 px"``: the ``count`` largest errors."""
+    import numpy as np
+
+    order = np.argsort(-np.asarray(errors), kind="stable")[:count]
+    return ", ".join(f"{names[i]} {errors[i]:.2f} px" for i in order)
+
+
+def warn_few_views(model: str, count: int, what: str) -> None:
+    """A warning line when ``count`` views are fewer than ``model`` needs for a stable fit."""
+    need = RECOMMENDED_VIEWS[model]
+    if count < need:
+        print(f"depthrefine calibrate: warning: only {count} {what} for the {model} lens model "
+              f"({LENS_MODELS[model]}); a stable fit needs about {need} covering the whole image: the "
+              "distortion is poorly determined (see docs/rig.md)", file=sys.stderr)
+
+
+def print_view_errors(names: list[str], errors, corners: list[int]) -> None:
+    """One line per view: its RMS reprojection error and corner count (stderr)."""
+    width = max(len(n) for n in names)
+    for name, error, count in zip(names, errors, corners):
+        print(f"  {name:<{width}}  {error:6.3f} px  ({count} corners)", file=sys.stderr)
+
+
+def _write_report(folder, fit: CalibrationFit, names: list[str], *, title: str) -> None:
+    """coverage.png and views.csv of ``calibrate --report``."""
+    from pathlib import Path
+
+    from ..io import write_figure
+    from ..rig.coverage import coverage_figure
+
+    write_figure(Path(folder) / "coverage.png", coverage_figure(fit, names=[Path(n).name for n in names],
+                                                                title=title))
+    lines = ["image,rms_px,corners"] + [f"{n},{e:.4f},{v.count}" for n, e, v in zip(names, fit.view_rms, fit.views)]
+    (Path(folder) / "views.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
 def run_calibrate_stereo(args: argparse.Namespace) -> int:
@@ -231,7 +320,7 @@ def run_calibrate_stereo(args: argparse.Namespace) -> int:
 
     from ..io import check_output, read_camera, write_rig
     from ..rig.boards import usable
-    from ..rig.calibrate import calibrate_stereo_from_views
+    from ..rig.calibrate import fit_stereo
 
     inputs = tuple(args.depth_images) + tuple(args.color_images)
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".json",), inputs=inputs)
@@ -263,16 +352,38 @@ def run_calibrate_stereo(args: argparse.Namespace) -> int:
             f"the board was found in both images of {len(used)} of {len(args.depth_images)} pairs; a stereo "
             f"calibration needs at least {MIN_VIEWS}{detail}{_not_found(missing)}. {hint}, and take more pairs."
         )
-    for note in notes:  # after the check, so that an error stays one line
-        print(note, file=sys.stderr)
-    rig = calibrate_stereo_from_views(
+    fit = fit_stereo(
         depth_views, color_views, board=board, depth_size=depth_size, color_size=color_size,
         depth_camera=depth_camera, color_camera=color_camera, estimate_k3=args.k3, rational=args.rational,
     )
+    for camera_fit, paths, views, what in ((fit.depth_fit, args.depth_images, depth_views, "depth camera"),
+                                           (fit.color_fit, args.color_images, color_views, "color camera")):
+        if camera_fit is not None:
+            check_fit(camera_fit, [p for p, v in zip(paths, views) if usable(v, board)], args.max_rms,
+                      what=f"the {what}'s calibration")
+    rig = fit.rig
+    pair_names = [f"{Path(args.depth_images[i]).name} + {Path(args.color_images[i]).name}" for i in fit.pairs]
+    pair_error = fit.pair_rms.max(axis=1)
+    if rig.rms > args.max_rms:
+        raise CliError(
+            f"stereo calibration refused: RMS reprojection error {rig.rms:.2f} px is over --max-rms "
+            f"{args.max_rms:g} px ({len(fit.pairs)} pairs; worst pairs: {_worst(pair_names, pair_error)}). Check "
+            "that the pairs show the same board pose in the same order, and --board and --square; nothing was "
+            "written."
+        )
+    for note in notes:  # after the checks, so that an error stays one line
+        print(note, file=sys.stderr)
+    for camera_fit, what in ((fit.depth_fit, "depth"), (fit.color_fit, "color")):
+        if camera_fit is not None:
+            warn_few_views(camera_fit.model, len(camera_fit.views), f"{what} camera views")
+    for name, (d_err, c_err) in zip(pair_names, fit.pair_rms):
+        print(f"  {name}  depth {d_err:6.3f} px, color {c_err:6.3f} px", file=sys.stderr)
     extra = {"board": list(board.inner_corners) if board.kind == "checkerboard" else board.to_dict(),
-             "square_size_m": board.square_size, "pairs_used": used}
+             "square_size_m": board.square_size,
+             "pairs_used": [[args.depth_images[i], args.color_images[i]] for i in fit.pairs],
+             "pair_rms": [[round(float(e), 4) for e in row] for row in fit.pair_rms]}
     write_rig(out, rig, overwrite=args.overwrite, extra=extra)
     centre = rig.color_centre
     print(f"wrote {out}: color camera at {np.round(centre, 4).tolist()} m from the depth camera, rotated "
-          f"{rig.rotation_degrees:.2f} deg, stereo RMS {rig.rms:.3f} px from {len(used)} pairs", file=sys.stderr)
+          f"{rig.rotation_degrees:.2f} deg, stereo RMS {rig.rms:.3f} px from {len(fit.pairs)} pairs", file=sys.stderr)
     return 0

@@ -7,7 +7,7 @@ import sys
 
 from . import CliError
 from ._common import add_depth_options, add_overwrite
-from ._rig_options import add_units_options
+from ._rig_options import add_units_options, warn_implausible_units
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -39,23 +39,22 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run_export_ply(args: argparse.Namespace) -> int:
-    from ..io import check_output, read_camera, read_chain_settings, read_depth, read_rgb, write_ply
-    from ..rig.pointcloud import depth_to_points
-    from ..rig.undistort import undistort_image
+    from ..io import check_distinct_inputs, check_output, read_camera, read_depth, read_depth_units, read_rgb, write_ply
+    from ..rig.pointcloud import color_grid_points
 
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".ply",), inputs=(args.depth, args.color))
+    check_distinct_inputs(args.depth, args.color)
     if args.stride < 1:
         raise CliError(f"--stride must be >= 1; got {args.stride}.")
     depth_units, inverse_scale = args.depth_units, args.inverse_depth_scale
     if depth_units is None and inverse_scale is None:
-        chain = read_chain_settings(args.rig) if _is_settings(args.rig) else None
-        if chain is not None:
-            depth_units, inverse_scale = chain.align.depth_units, chain.align.inverse_scale
+        depth_units, inverse_scale = read_depth_units(args.rig)
     if depth_units is None and inverse_scale is None:
         raise CliError("the depth's units are unknown: give --depth-units M (0.001 for uint16 mm) or, for 8-bit "
                        "depth intensity (larger = nearer), --inverse-depth-scale C with metres = C / value.")
     camera = read_camera(args.rig, which="color")
     depth = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
+    warn_implausible_units("export-ply", depth, depth_units=depth_units, inverse_scale=inverse_scale)
     rgb = read_rgb(args.color)
     if rgb.shape[:2] != camera.shape:
         raise CliError(f"COLOR is {rgb.shape[1]}x{rgb.shape[0]} but the color camera of {args.rig} was "
@@ -63,22 +62,10 @@ def run_export_ply(args: argparse.Namespace) -> int:
     if depth.shape != rgb.shape[:2]:
         raise CliError(f"DEPTH is {depth.shape[1]}x{depth.shape[0]} but COLOR is {rgb.shape[1]}x{rgb.shape[0]}; "
                        "export the refined depth (on the color grid), e.g. the output of `run`.")
-    distorted = camera.has_distortion and args.distorted_grid
-    if camera.has_distortion and not args.distorted_grid:
-        if not args.no_undistort:
-            rgb = undistort_image(rgb, camera)
-        camera = camera.without_distortion()
-    points, colors = depth_to_points(depth, camera, rgb=rgb, depth_units=depth_units, inverse_scale=inverse_scale,
-                                     distorted=distorted, stride=args.stride)
+    points, colors = color_grid_points(depth, rgb, camera, depth_units=depth_units, inverse_scale=inverse_scale,
+                                       raw_grid=args.distorted_grid, color_undistorted=args.no_undistort,
+                                       stride=args.stride)
     write_ply(out, points, colors, overwrite=args.overwrite,
               comments=("metres, color camera frame: X right, Y down, Z forward",))
     print(f"wrote {out} ({points.shape[0]} points)", file=sys.stderr)
     return 0
-
-
-def _is_settings(path: str) -> bool:
-    from ..io import read_mapping
-
-    data = read_mapping(path, what="rig")
-    return any(k in data for k in ("align", "refine", "rig"))
-

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import sys
+import threading
 from pathlib import Path
 
 from .. import __version__
@@ -13,6 +13,7 @@ from ._confidence import (add_confidence_options, apply_min_confidence, check_co
                           refine_maybe_confident, wants_confidence)
 from ._common import (add_depth_options, add_output, add_output_format_options, add_overwrite, add_params_options,
                       add_units_option, build_params, depth_units_label, output_depth, params_dict, progress_bar)
+from ._picture_options import add_preview_option, check_window, write_preview
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -32,9 +33,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_params_options(p)
     p.add_argument("--save-intermediate", metavar="DIR",
                    help="write the pictures of the intermediate steps (and the parameters) into DIR")
-    p.add_argument("--preview", metavar="PNG",
-                   help="also write a picture of the result (colorbar in --units) beside the color image "
-                        "(and its confidence map, with --confidence)")
+    add_preview_option(p)
     add_confidence_options(p)
     add_units_option(p)
     add_output_format_options(p)
@@ -44,18 +43,47 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    warm = _warm_up_numba(args.method)
+    try:
+        return _run(args)
+    finally:
+        if warm is not None:
+            warm.join()
+
+
+def _warm_up_numba(method: str) -> threading.Thread | None:
+    """For a method that runs compiled kernels, numba's one-time set-up in a thread (while the images are read)."""
+    from ..methods._names import COMPILED_METHODS
+
+    if method not in COMPILED_METHODS:
+        return None
+
+    def warm() -> None:
+        try:
+            from .._numba import warm_up
+
+            warm_up()
+        except Exception:   # no numba, no cache: the refine itself says what is wrong
+            pass
+
+    thread = threading.Thread(target=warm, name="depthrefine-numba-warm-up")
+    thread.start()
+    return thread
+
+
+def _run(args: argparse.Namespace) -> int:
     from .. import viz
     from .._validate import as_depth
-    from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_output, check_output_dir, read_depth,
-                      read_rgb, write_depth, write_figure)
-    from ..io import write_confidence
-    from ..methods.confidence import generic_confidence
-    from ..methods.registry import get_method
+    from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_distinct_inputs, check_output,
+                      check_output_dir, read_depth, read_rgb, write_confidence, write_depth, write_intermediates)
+    from ..methods.confidence import confidence_of
+    from ..methods.registry import get_method, refine_intermediates
     from ..methods.scale import plan_scale
-    from ..methods.thesis.refine import refine_with_intermediates
+    from ..viz import depth_figure
 
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES,
                        inputs=(args.depth, args.color))
+    check_distinct_inputs(args.depth, args.color)
     if args.save_intermediate:
         folder = Path(args.save_intermediate).resolve()
         if out.resolve() == folder:
@@ -74,17 +102,18 @@ def run(args: argparse.Namespace) -> int:
     params = build_params(args)  # before reading the images: a bad parameter fails at once
     depth_lr = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb_hr = read_rgb(args.color)
+    check_window(args, rgb_hr.shape[:2])
     check_depth_format(out, args.output_dtype or depth_lr.dtype)
     step = plan_scale(depth_lr.shape, rgb_hr.shape)
     entry = get_method(args.method)
     update, close = progress_bar(f"refine ({entry.name})")
     try:
-        if args.save_intermediate and entry.name == "thesis":
-            result = refine_with_intermediates(depth_lr, rgb_hr, params=params, progress=update)
-            depth_hr = result.depth_hr
-            confidence = generic_confidence(depth_lr, depth_hr) if wants_confidence(args) else None
+        if args.save_intermediate and entry.intermediates is not None:
+            depth_hr, steps = refine_intermediates(depth_lr, rgb_hr, method=entry.name, params=params, progress=update)
+            confidence = (confidence_of(entry, depth_lr, rgb_hr, depth_hr, params=params)
+                          if wants_confidence(args) else None)
         else:
-            result = None
+            steps = None
             depth_hr, confidence = refine_maybe_confident(args, depth_lr, rgb_hr, method=entry.name, params=params,
                                                           progress=update)
     finally:
@@ -93,9 +122,6 @@ def run(args: argparse.Namespace) -> int:
         note = confidence_note(confidence, args.min_confidence)
         depth_hr, confidence = apply_min_confidence(depth_hr, confidence, args.min_confidence)
 
-    # Only the thesis method needs an integer factor; the others resize straight to the color grid.
-    scale_note = step.describe() if entry.name == "thesis" or not step.resizes_color else (
-        f"ratio {step.ratio:.3f}, resized directly to {rgb_hr.shape[1]}x{rgb_hr.shape[0]}")
     record = {
         "depthrefine": __version__,
         "depth": str(args.depth),
@@ -103,7 +129,7 @@ def run(args: argparse.Namespace) -> int:
         "output": str(out),
         "method": entry.name,
         "params": params_dict(params),
-        "scale": scale_note,
+        "scale": step.describe(direct=not entry.scale_step),
         "depth_shape": list(depth_lr.shape),
         "color_shape": list(rgb_hr.shape[:2]),
         "dtype": str(depth_lr.dtype),
@@ -122,15 +148,14 @@ def run(args: argparse.Namespace) -> int:
         if confidence_out is not None:
             written.append(write_confidence(confidence_out, confidence, overwrite=args.overwrite))
         if preview is not None:
-            fig = viz.depth_figure(shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})",
-                                   confidence=confidence)
-            written.append(write_figure(preview, fig, overwrite=args.overwrite))
+            written.append(write_preview(args, preview, shown, rgb_hr, units=units, title=f"{out.name} ({entry.name})",
+                                         confidence=confidence))
 
     try:
         if args.save_intermediate:
             with atomic_directory(args.save_intermediate, overwrite=args.overwrite) as tmp:
-                _write_intermediates(tmp, shown, rgb_hr, result, record, units=units,
-                                     factor=1.0 if args.output_scale is None else args.output_scale)
+                write_intermediates(tmp, steps, depth_hr=shown, rgb_hr=rgb_hr, record=record, units=units,
+                                    factor=1.0 if args.output_scale is None else args.output_scale)
                 write_outputs()
         else:
             write_outputs()
@@ -140,7 +165,8 @@ def run(args: argparse.Namespace) -> int:
                 path.unlink()
         raise
     h, w = depth_hr.shape
-    if entry.name == "thesis" and step.resizes_color:
+    scale_note = record["scale"]
+    if entry.scale_step and step.resizes_color:
         scale_note = f"x{step.factor} after the thesis scale step (see the note above)"
     print(f"wrote {out} ({w}x{h}, {dtype}, method {entry.name}, {scale_note})", file=sys.stderr)
     if confidence is not None:
@@ -148,40 +174,3 @@ def run(args: argparse.Namespace) -> int:
     if preview is not None:
         print(f"wrote {preview}", file=sys.stderr)
     return 0
-
-
-def _write_intermediates(folder: Path, depth_hr, rgb_hr, result, record, *, units: str, factor: float = 1.0) -> None:
-    """The pictures of --save-intermediate (one depth range and colorbar in ``units``), and the run's record.
-
-    ``factor`` is --output-scale, so the sparse samples are drawn in the
-    same units as the result.
-    """
-    import numpy as np
-
-    from .. import viz
-    from ..io import write_figure, write_rgb
-
-    limits = viz.depth_limits(depth_hr)
-
-    def picture(name: str, panel) -> None:
-        write_figure(folder / name, viz.figure_grid([[panel]], units=units, limits=limits, panel_width=6.0))
-
-    picture("result_colorized.png", viz.Panel("result", depth_hr, "depth"))
-    picture("result_blended.png", viz.Panel("result over the color image", depth_hr, "blend", background=rgb_hr))
-    if result is not None:
-        work_rgb = result.rgb_filtered
-        write_rgb(folder / "color_filtered.png", viz.to_rgb8(work_rgb))
-        write_rgb(folder / "cluster_labels.png", viz.colorize_labels(result.labels, result.patch_index))
-        picture("sparse_depth_over_color.png", viz.Panel(
-            "depth samples over the filtered color (step 5)", result.sparse_depth * factor, "samples",
-            background=work_rgb))
-        picture("corrected_depth_over_color.png", viz.Panel(
-            "corrected depth samples (step 6)", result.corrected_sparse * factor, "samples", background=work_rgb))
-        np.savez_compressed(
-            folder / "intermediates.npz",
-            labels=result.labels, patch_index=result.patch_index, labels_lr=result.labels_lr,
-            corrected_lr=result.corrected_lr, lab_unified=result.lab_unified,
-            patches=np.array(result.patches, dtype=np.int32),
-        )
-        record = dict(record, level_size=result.level_size, patches=[list(p) for p in result.patches])
-    (folder / "run.json").write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")

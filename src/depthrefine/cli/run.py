@@ -11,14 +11,18 @@ from typing import TYPE_CHECKING, Any
 from ..methods._names import DEFAULT_METHOD, RegisteredMethodNames
 from ..rig._names import ALIGN_METHODS
 from . import CliError
-from ._rig_options import add_align_options, chain_settings
+from ._rig_options import add_align_options, chain_settings, warn_implausible_units
 from ._confidence import (add_confidence_options, apply_min_confidence, check_confidence_output, confidence_note,
-                          refine_maybe_confident)
+                          refine_pair_maybe_confident)
 from ._common import (add_deprecated_alias, add_depth_options, add_output_format_options, add_overwrite,
                       add_params_options, build_params, output_depth, params_dict, progress_bar)
+from ._picture_options import add_preview_option, check_window, write_preview
 
 if TYPE_CHECKING:
     from ..io import ChainSettings
+
+#: What --save-color writes.
+COLOR_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff")
 
 
 class _AlignMethod(argparse.Action):
@@ -49,10 +53,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         description=(
             "From a raw depth map and a raw color image of a calibrated rig to a refined depth map on the "
             "color image's grid: undistort both (spec step 1), align the depth with the color camera "
-            "(step 3: reproject by default, or the thesis's shift), then refine (the scale step, step 2, "
-            "happens there when the color/depth ratio is not an integer). --rig takes the rig file, or a "
-            "chain settings file (TOML/JSON) holding the rig, [align] and [refine]; options given here "
-            "override the file. The output keeps DEPTH's dtype and units."
+            "(step 3: reproject by default, onto a grid at the depth camera's resolution, or the thesis's "
+            "shift), then refine: the method upsamples by an integer factor of at least 2 (the scale step, "
+            "step 2: the color image is resized onto that grid when the ratio is not an integer and the "
+            "result resized back). --rig takes the rig file, or a chain settings file (TOML/JSON) holding the "
+            "rig, [align] and [refine]; options given here override the file. The output keeps DEPTH's dtype "
+            "and units unless --output-dtype/--output-scale say otherwise (float32 .tif/.npy keeps the "
+            "refined depth's fractions)."
         ),
     )
     p.add_argument("depth", metavar="DEPTH", help="raw depth map of the rig's depth camera")
@@ -69,8 +76,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         f"{DEFAULT_METHOD}); --method is the alignment method here, as in align"))
     p.set_defaults(method=None)
     p.add_argument("--fill-holes", action="store_true",
-                   help="keep the refinement's depth everywhere; default: pixels no depth measurement reached "
-                        "(outside the depth camera's view, invalid in DEPTH, or hidden from it) stay invalid (0). "
+                   help="fill the holes that lie inside one measured surface (a dropout on a dark or shiny spot) "
+                        "with the refinement's depth; what lies beyond any measurement (outside the depth "
+                        "camera's view, hidden from it) stays invalid (0), as do all holes by default. "
                         "Also fill_holes = true in the settings file's [refine]")
     p.add_argument("--ply", metavar="FILE", help="also write the refined depth as a colored point cloud (.ply)")
     p.add_argument("--stride", type=int, default=1, metavar="N",
@@ -80,8 +88,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     add_confidence_options(p)
     p.add_argument("--save-aligned", metavar="FILE",
                    help="also write the aligned low-resolution depth (before refinement)")
+    p.add_argument("--save-color", metavar="FILE",
+                   help="also write the color image the result lies on (undistorted when the color lens has "
+                        "distortion; .png, .jpg or .tif), so that the two overlay pixel for pixel")
     p.add_argument("--save-settings", metavar="FILE",
                    help="also write the chain settings used (rig inline) as JSON, to rerun with --rig FILE")
+    add_preview_option(p)
     add_overwrite(p)
     add_depth_options(p)
     p.set_defaults(func=run_chain)
@@ -101,18 +113,19 @@ def _refine_params(args: argparse.Namespace, chain: ChainSettings) -> tuple[str,
 def run_chain(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_output, read_depth, read_rgb,
-                      write_chain_settings, write_depth, write_ply)
-    from ..io import write_confidence
-    from ..methods.scale import plan_scale
+    from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_distinct_inputs, check_output,
+                      read_depth, read_rgb, write_chain_settings, write_confidence, write_depth, write_ply, write_rgb)
     from ..rig.chain import align_pair, keep_unmeasured
     from ..rig.pointcloud import depth_to_points
 
     inputs = (args.depth, args.color, args.rig, args.settings)
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES, inputs=inputs)
+    check_distinct_inputs(args.depth, args.color)
     extra_outputs = {}
     for flag, path, suffixes in (("--ply", args.ply, (".ply",)), ("--save-aligned", args.save_aligned, DEPTH_SUFFIXES),
-                                 ("--save-settings", args.save_settings, (".json",))):
+                                 ("--save-settings", args.save_settings, (".json",)),
+                                 ("--save-color", args.save_color, COLOR_SUFFIXES),
+                                 ("--preview", args.preview, (".png",))):
         if path:
             extra_outputs[flag] = check_output(path, overwrite=args.overwrite, suffixes=suffixes, inputs=inputs,
                                                what=f"{flag} file")
@@ -130,21 +143,21 @@ def run_chain(args: argparse.Namespace) -> int:
     method, params = _refine_params(args, chain)
 
     depth_raw = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
+    warn_implausible_units("run", depth_raw, depth_units=align.depth_units, inverse_scale=align.inverse_scale)
     check_depth_format(out, args.output_dtype or depth_raw.dtype)
     if "--save-aligned" in extra_outputs:
         check_depth_format(extra_outputs["--save-aligned"], depth_raw.dtype)
     rgb_raw = read_rgb(args.color)
     pair = align_pair(depth_raw, rgb_raw, chain.rig, settings=align)
-    step = plan_scale(pair.depth_lr.shape, pair.rgb_hr.shape)
+    check_window(args, pair.rgb_hr.shape[:2])
     update, close = progress_bar(f"refine ({method})")
     try:
-        depth_hr, confidence = refine_maybe_confident(args, pair.depth_lr, pair.rgb_hr, method=method,
-                                                      params=params, progress=update)
+        depth_hr, confidence, scale_note = refine_pair_maybe_confident(args, pair.depth_lr, pair.rgb_hr,
+                                                                       method=method, params=params, progress=update)
     finally:
         close()
     fill_holes = args.fill_holes or chain.fill_holes
-    if not fill_holes:
-        depth_hr = keep_unmeasured(depth_hr, pair.depth_lr)
+    depth_hr = keep_unmeasured(depth_hr, pair.depth_lr, fill_enclosed=fill_holes)
     if confidence is not None:
         confidence[~np.isfinite(depth_hr)] = 0.0   # no depth, no confidence
         confidence_line = confidence_note(confidence, args.min_confidence)
@@ -164,10 +177,16 @@ def run_chain(args: argparse.Namespace) -> int:
         if "--save-aligned" in extra_outputs:
             written.append(write_depth(extra_outputs["--save-aligned"], pair.depth_lr, dtype=depth_raw.dtype,
                                        overwrite=args.overwrite))
+        if "--save-color" in extra_outputs:
+            written.append(write_rgb(extra_outputs["--save-color"], pair.rgb_hr, overwrite=args.overwrite))
         if cloud is not None:
             written.append(write_ply(extra_outputs["--ply"], *cloud, overwrite=args.overwrite,
                                      comments=(f"depthrefine run {Path(args.depth).name} {Path(args.color).name}",
                                                "metres, color camera frame: X right, Y down, Z forward")))
+        if "--preview" in extra_outputs:
+            written.append(write_preview(args, extra_outputs["--preview"], depth_hr, pair.rgb_hr, title=out.name,
+                                         units={0.001: "mm", 0.01: "cm", 1.0: "m"}.get(align.depth_units, "as stored"),
+                                         confidence=confidence))
         if "--save-settings" in extra_outputs:
             used = ChainSettings(rig=chain.rig, align=align, method=method, params=params_dict(params),
                                  rig_source=chain.rig_source, fill_holes=fill_holes)
@@ -178,12 +197,14 @@ def run_chain(args: argparse.Namespace) -> int:
                 path.unlink()
         raise
     h, w = depth_hr.shape
-    notes = list(pair.notes) + [step.describe(), f"refined with {method}"]
-    if not fill_holes:
-        notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0; --fill-holes fills them)")
+    notes = list(pair.notes) + [scale_note, f"refined with {method}"]
+    notes.append(f"{100 * np.isnan(depth_hr).mean():.1f} % of pixels left unmeasured (0)"
+                 + ("" if fill_holes else "; --fill-holes fills those inside a measured surface"))
     print(f"wrote {out} ({w}x{h}, {dtype}): " + "; ".join(notes), file=sys.stderr)
     if confidence is not None:
         print(f"{'wrote ' + str(confidence_out) + ': ' if confidence_out else ''}{confidence_line}", file=sys.stderr)
     if cloud is not None:
         print(f"wrote {extra_outputs['--ply']} ({cloud[0].shape[0]} points)", file=sys.stderr)
+    if "--preview" in extra_outputs:
+        print(f"wrote {extra_outputs['--preview']}", file=sys.stderr)
     return 0

@@ -9,6 +9,7 @@ from pathlib import Path
 from .. import viz
 from ._confidence import read_shown_confidence
 from ._common import add_depth_options, add_overwrite, add_units_option, depth_units_label, parse_range
+from ._picture_options import add_picture_options, check_window, picture_options
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -31,6 +32,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--confidence", metavar="FILE",
                    help="also draw this confidence map (refine/run --confidence: .tif, .npy or 16-bit .png) beside "
                         "the depth, on its own 0..1 colorbar")
+    add_picture_options(p)
     add_overwrite(p)
     add_depth_options(p)
     p.set_defaults(func=run)
@@ -38,16 +40,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from .._validate import as_depth
-    from ..io import check_output, read_depth, read_rgb, write_figure
+    from ..io import check_distinct_inputs, check_output, read_depth, read_rgb, write_figure
 
     inputs = (args.depth,) + ((args.color,) if args.color else ()) + ((args.confidence,) if args.confidence else ())
     out = check_output(args.output, overwrite=args.overwrite, suffixes=(".png",), inputs=inputs)
+    if args.color:
+        check_distinct_inputs(args.depth, args.color)
     raw = read_depth(args.depth, saturated_invalid=args.saturated_invalid)
     rgb = read_rgb(args.color) if args.color else None
     depth = as_depth(raw, name=f"depth file {args.depth}")
+    check_window(args, depth.shape)
     confidence = read_shown_confidence(args.confidence, depth.shape) if args.confidence else None
     fig = viz.depth_figure(depth, rgb, units=depth_units_label(args.units, raw.dtype), title=Path(args.depth).name,
-                           limits=args.range, confidence=confidence)
+                           limits=args.range, confidence=confidence, **picture_options(args))
     write_figure(out, fig, overwrite=args.overwrite)
     print(f"wrote {out}", file=sys.stderr)
     return 0

@@ -18,8 +18,7 @@ import numpy as np
 from ..rig.camera import CameraModel, StereoRig
 from ..rig.formats import (CALIBRATION_FORMATS, calibration_format, camera_from_opencv, camera_from_ros,
                            rig_from_k4a)
-from ._files import InputFileError
-from ._images import _existing
+from ._files import InputFileError, existing_input
 
 __all__ = ["read_calibration"]
 
@@ -53,7 +52,7 @@ def read_calibration(
         A file that is none of these, or not valid JSON/YAML, a missing mode,
         or a mode the file cannot give (the message says what to do).
     """
-    p = _existing(path, "calibration")
+    p = existing_input(path, "calibration")
     data = _parse(p)
     kind = calibration_format(data)
     if kind is None:

@@ -39,7 +39,7 @@ from typing import Any, Mapping
 
 from ..rig.chain import AlignSettings
 from ..rig.camera import CameraModel, StereoRig
-from ..methods.thesis.params import params_from_mapping
+from ..methods.params import params_from_mapping
 from ._files import InputFileError, atomic_write, check_output
 from ._params import read_mapping
 
@@ -50,6 +50,7 @@ __all__ = [
     "write_rig",
     "ChainSettings",
     "read_chain_settings",
+    "read_depth_units",
     "write_chain_settings",
 ]
 
@@ -214,6 +215,16 @@ def read_chain_settings(path: str | os.PathLike) -> ChainSettings:
     return ChainSettings(rig=rig, align=align, method=method, params=dict(params), rig_source=rig_source,
                          fill_holes=fill_holes)
 
+
+
+def read_depth_units(path: str | os.PathLike) -> tuple[float | None, float | None]:
+    """``(depth_units, inverse_scale)`` recorded in a chain settings file's ``[align]``; ``(None, None)`` for a
+    rig or camera file, which record no units."""
+    data = read_mapping(path, what="rig")
+    if not any(key in data for key in _CHAIN_KEYS):
+        return None, None
+    align = read_chain_settings(path).align
+    return align.depth_units, align.inverse_scale
 
 def write_chain_settings(path: str | os.PathLike, settings: ChainSettings, *, overwrite: bool = False) -> Path:
     """Write a chain settings file as JSON (the rig inline), atomically."""

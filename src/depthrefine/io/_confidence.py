@@ -62,7 +62,6 @@ def write_confidence(path: str | os.PathLike, confidence: np.ndarray, *, overwri
         data = confidence_to_png(confidence)
     else:
         data = np.clip(np.nan_to_num(np.asarray(confidence, dtype=np.float32), nan=0.0), 0.0, 1.0)
-
     return write_array(p, data, suffix, overwrite=overwrite)
 
 

@@ -3,17 +3,33 @@
 from __future__ import annotations
 
 import contextlib
+import filecmp
 import os
 import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable, Iterator
 
-__all__ = ["check_output", "check_output_dir", "atomic_write", "atomic_directory", "InputFileError"]
+__all__ = ["check_output", "check_output_dir", "check_distinct_inputs", "atomic_write", "atomic_directory",
+           "existing_input", "InputFileError"]
 
 
 class InputFileError(ValueError):
     """A file a user gave cannot be used; the message names it and says what to do."""
+
+
+def existing_input(path: str | os.PathLike, what: str) -> Path:
+    """``path`` as a ``Path`` once it is a readable, non-empty file; else :class:`InputFileError` naming ``what``."""
+    p = Path(path)
+    if not p.exists():
+        raise InputFileError(f"{what} file {p} does not exist; check the path.")
+    if p.is_dir():
+        raise InputFileError(f"{what} file {p} is a folder; give an image file.")
+    if not os.access(p, os.R_OK):
+        raise InputFileError(f"{what} file {p} is not readable; check its permissions.")
+    if p.stat().st_size == 0:
+        raise InputFileError(f"{what} file {p} is empty (0 bytes); save it again.")
+    return p
 
 
 def check_output(
@@ -86,6 +102,27 @@ def check_output_dir(path: str | os.PathLike, *, overwrite: bool = False, what: 
     if not os.access(parent, os.W_OK) or (p.is_dir() and not os.access(p, os.W_OK)):
         raise InputFileError(f"{what} {p}: not writable; choose another folder.")
     return p
+
+
+def check_distinct_inputs(depth: str | os.PathLike, color: str | os.PathLike) -> None:
+    """Refuse the same file (path, link or identical bytes) given as both the depth map and the color image.
+
+    Raises
+    ------
+    InputFileError
+        ``depth`` and ``color`` are one file, or two files with the same bytes.
+    """
+    a, b = Path(depth), Path(color)
+    if _same_file(a, b) or (a.resolve() == b.resolve()):
+        raise InputFileError(f"DEPTH and COLOR are the same file ({a}); give the depth map first, then the "
+                             "color image.")
+    try:
+        same = a.is_file() and b.is_file() and filecmp.cmp(a, b, shallow=False)
+    except OSError:
+        return  # unreadable: the reader says so, naming the file
+    if same:
+        raise InputFileError(f"DEPTH {a} and COLOR {b} have identical bytes: one image was given twice; give the "
+                             "depth map first, then the color image.")
 
 
 def _same_file(a: Path, b: Path) -> bool:

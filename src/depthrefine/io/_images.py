@@ -39,7 +39,7 @@ import numpy as np
 
 from .._lazy import cv2, tifffile
 from .._validate import check_pixels, check_rgb, no_valid_pixel_message
-from ._files import InputFileError, atomic_write, check_output
+from ._files import InputFileError, atomic_write, check_output, existing_input
 
 __all__ = [
     "read_depth",
@@ -56,19 +56,6 @@ __all__ = [
 
 DEPTH_SUFFIXES = (".png", ".tif", ".tiff", ".npy", ".pgm")
 _INTEGER_SUFFIXES = (".png", ".pgm")
-
-
-def _existing(path: str | os.PathLike, what: str) -> Path:
-    p = Path(path)
-    if not p.exists():
-        raise InputFileError(f"{what} file {p} does not exist; check the path.")
-    if p.is_dir():
-        raise InputFileError(f"{what} file {p} is a folder; give an image file.")
-    if not os.access(p, os.R_OK):
-        raise InputFileError(f"{what} file {p} is not readable; check its permissions.")
-    if p.stat().st_size == 0:
-        raise InputFileError(f"{what} file {p} is empty (0 bytes); save it again.")
-    return p
 
 
 def image_shape(path: str | os.PathLike) -> tuple[int, ...] | None:
@@ -184,7 +171,26 @@ def _captured_stderr_fd() -> Iterator[list[str]]:
             out.append(tmp.read().decode("utf-8", "replace").strip())
 
 
+#: File signatures of recordings that `depthrefine batch` reads, not single images.
+_RECORDINGS = ((b"\x1a\x45\xdf\xa3", "a Matroska recording (.mkv, e.g. Azure Kinect)"),
+               (b"#ROSBAG", "a ROS 1 bag"), (b"\x89MCAP", "an MCAP bag"), (b"SQLite format 3\x00", "a ROS 2 bag (.db3)"))
+
+
+def _recording(p: Path) -> str | None:
+    """What recording ``p`` is (from its first bytes), else None."""
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(16)
+    except OSError:
+        return None
+    return next((kind for magic, kind in _RECORDINGS if head.startswith(magic)), None)
+
+
 def _read_any(p: Path, what: str) -> np.ndarray:
+    kind = _recording(p)
+    if kind is not None:
+        raise InputFileError(f"{what} file {p} is {kind}, not an image; refine its frames with "
+                             f"`depthrefine batch {p} -o OUTDIR`.")
     suffix = p.suffix.lower()
     try:
         if suffix == ".npy":
@@ -234,7 +240,7 @@ def read_depth(
         Missing, unreadable, too large or non-depth file (e.g. a color
         image), or a depth map without any valid pixel.
     """
-    p = _existing(path, "depth")
+    p = existing_input(path, "depth")
     _check_size(p, "depth", max_pixels)
     arr = _read_any(p, "depth")
     if arr.ndim == 3 and arr.shape[2] in (3, 4) and p.suffix.lower() not in (".npy", ".tif", ".tiff"):
@@ -268,17 +274,19 @@ def read_depth(
 def depth_to_dtype(depth: np.ndarray, dtype: np.dtype | type) -> np.ndarray:
     """Convert a float depth map (NaN = invalid) to ``dtype`` for writing.
 
-    Integers: rounded, valid pixels clipped to ``[1, max]``, NaN -> 0.
-    Floats: NaN -> 0 (0 means no measurement in a file).
+    Integers: rounded, valid pixels clipped to ``[1, max]``; no measurement
+    (NaN, inf, 0 or negative) -> 0. Floats: no measurement -> 0 (0 means no
+    measurement in a file).
 
     Examples
     --------
-    >>> depth_to_dtype(np.array([np.nan, 0.2, 7.6, 300.0], np.float32), np.uint8).tolist()
-    [0, 1, 8, 255]
+    >>> depth_to_dtype(np.array([np.nan, 0.2, 7.6, 300.0, 0.0], np.float32), np.uint8).tolist()
+    [0, 1, 8, 255, 0]
     """
     dtype = np.dtype(dtype)
     depth = np.asarray(depth, dtype=np.float64)
-    invalid = ~np.isfinite(depth)
+    with np.errstate(invalid="ignore"):
+        invalid = ~(np.isfinite(depth) & (depth > 0))
     if dtype.kind in "ui":
         info = np.iinfo(dtype)
         out = np.clip(np.floor(np.where(invalid, 0, depth) + 0.5), max(1, info.min), info.max)
@@ -329,6 +337,27 @@ def scale_to_dtype(depth: np.ndarray, scale: float, dtype: np.dtype | type) -> n
     return scaled.astype(np.float32)
 
 
+def output_values(depth: np.ndarray, input_dtype: np.dtype | type, *, scale: float | None = None,
+                  dtype: np.dtype | type | str | None = None) -> tuple[np.ndarray, np.dtype]:
+    """The depth to write and the dtype to write it in, after an output scale and dtype.
+
+    Without either: ``depth`` itself and ``input_dtype`` (the output keeps the
+    input's type). With one of them the conversion is explicit
+    (:func:`scale_to_dtype`), so a value the type cannot hold is a
+    ``ValueError`` instead of a silent clip.
+
+    Examples
+    --------
+    >>> values, dtype = output_values(np.array([0.5, 2.25], np.float32), np.float32, scale=1000, dtype="uint16")
+    >>> values.tolist(), str(dtype)
+    ([500.0, 2250.0], 'uint16')
+    """
+    out_dtype = np.dtype(dtype or input_dtype)
+    if scale is None and dtype is None:
+        return depth, out_dtype
+    return scale_to_dtype(depth, 1.0 if scale is None else scale, out_dtype), out_dtype
+
+
 def check_depth_format(path: str | os.PathLike, dtype: np.dtype | type) -> str:
     """The lower-case suffix of ``path`` if it is a depth format that can hold ``dtype``.
 
@@ -374,7 +403,7 @@ def write_depth(
 
 
 def write_array(p: Path, data: np.ndarray, suffix: str, *, overwrite: bool) -> Path:
-    """Write ``data`` as it is, atomically: ``.npy``, TIFF (``.tif``, ``.tiff``), or an image OpenCV writes (PNG)."""
+    """Write ``data`` atomically to the checked path ``p`` as ``suffix`` says (.npy, .tif/.tiff, else OpenCV)."""
 
     def _write(tmp: Path) -> None:
         if suffix == ".npy":
@@ -395,7 +424,7 @@ def read_rgb(path: str | os.PathLike, *, max_pixels: int | None = None) -> np.nd
     over ``max_pixels`` or the machine's memory is refused before decoding
     (see :func:`depthrefine._validate.check_pixels`).
     """
-    p = _existing(path, "color")
+    p = existing_input(path, "color")
     _check_size(p, "color", max_pixels)
     arr = _read_any(p, "color")
     if arr.ndim >= 2:

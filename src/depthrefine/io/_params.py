@@ -7,15 +7,14 @@ import os
 import tomllib
 from typing import Any
 
-from ._files import InputFileError
-from ._images import _existing
+from ._files import InputFileError, existing_input
 
 __all__ = ["read_mapping", "read_patch_layout"]
 
 
 def read_mapping(path: str | os.PathLike, *, what: str = "parameter") -> dict[str, Any]:
     """Read a TOML (``.toml``) or JSON file holding one table of settings."""
-    p = _existing(path, what)
+    p = existing_input(path, what)
     text = p.read_bytes()
     try:
         if p.suffix.lower() == ".json":
@@ -37,7 +36,7 @@ def read_patch_layout(path: str | os.PathLike) -> tuple[tuple[int, int, int, int
     ``{"x": .., "y": .., "width": .., "height": ..}`` (x = column, y = row of
     the top-left corner).
     """
-    p = _existing(path, "patch")
+    p = existing_input(path, "patch")
     try:
         data = json.loads(p.read_text(encoding="utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:

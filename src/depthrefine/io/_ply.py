@@ -12,8 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import InputFileError, atomic_write, check_output
-from ._images import _existing
+from ._files import InputFileError, atomic_write, check_output, existing_input
 
 __all__ = ["write_ply", "read_ply"]
 
@@ -90,7 +89,7 @@ def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray | None]:
     colors : (N, 3) uint8 ndarray or None
         When the vertices have ``red``, ``green`` and ``blue``.
     """
-    p = _existing(path, "point cloud")
+    p = existing_input(path, "point cloud")
     raw = p.read_bytes()
     end = raw.find(b"end_header")
     if not raw.startswith(b"ply") or end < 0:

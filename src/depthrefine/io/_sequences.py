@@ -1,30 +1,32 @@
-"""Sequences of depth + color frames: a folder, a CSV manifest or a ROS bag.
+"""Sequences of depth + color frames: a folder, a CSV manifest, a ROS bag or an Azure Kinect recording.
 
 :func:`open_sequence` finds and pairs the frames of an input without
 decoding any image; :meth:`Sequence.load` then decodes them one after the
-other, in order, as the batch needs them.
+other, in order, as the batch needs them. ``docs/recordings.md`` describes
+every format for users.
 
 - **Folder**: ``depth/`` and ``color/`` subfolders whose files pair by stem
   (``depth/000123.png`` with ``color/000123.jpg``). Stems sort in natural
   order (``2`` before ``10``).
 - **Manifest**: a CSV file with columns ``depth,color`` (a header row; paths
   relative to the manifest's folder, or absolute). Rows keep their order.
-- **ROS bag**: a ROS 1 ``.bag`` file, or a ROS 2 bag (a folder with
-  ``metadata.yaml`` and ``.db3`` or ``.mcap`` files, or one such file), read
-  with the pure-Python ``rosbags`` package. Depth and color topics hold
-  ``sensor_msgs/Image`` (depth ``16UC1``/``mono16`` in millimetres or
-  ``32FC1`` in metres, as ROS REP 118 defines them; color ``rgb8``,
-  ``bgr8``, ``rgba8``, ``bgra8``, ``mono8`` and their 16-bit forms) or
-  ``sensor_msgs/CompressedImage`` (JPEG or PNG). Each depth frame pairs with
-  the color frame nearest in time (header stamps; the recording time when a
-  stamp is 0) within ``max_dt``; each color frame is used once, closest
-  pairs first. The output stem is the depth frame's time in nanoseconds.
+- **ROS bag** (:mod:`._bags`): a ROS 1 ``.bag`` (also a RealSense SDK
+  recording), a ROS 2 bag (a folder with ``metadata.yaml``, or one ``.db3``
+  or ``.mcap`` file, with or without ``metadata.yaml``).
+- **Azure Kinect recording** (:mod:`._mkv`): the ``.mkv`` of ``k4arecorder``.
+
+Time-stamped inputs (bags, recordings) pair each depth frame with the color
+frame nearest in time within ``max_dt``, each color frame used once,
+closest pairs first; the output stem is the depth frame's time in
+nanoseconds. A frame of either stream without a partner is listed in
+:attr:`Sequence.unpaired` (streams at different rates are normal), not
+as a failed frame. In a folder, a depth file without a color file of its
+stem is a failed frame (:attr:`Frame.problem`); extra color files are listed
+in :attr:`Sequence.notes`.
 
 Every frame's output keeps the depth's dtype: the depth file's own format
 for folders and manifests, ``.png`` for 8/16-bit and ``.tif`` for float
-depth from bags. A depth frame without a partner is reported as a failed
-frame (:attr:`Frame.problem`); extra color frames are listed in
-:attr:`Sequence.notes`.
+depth from bags and recordings.
 """
 
 from __future__ import annotations
@@ -34,19 +36,24 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator
 
 import numpy as np
 
-from .._validate import check_rgb
 from ._files import InputFileError
 from ._images import DEPTH_SUFFIXES, read_depth, read_rgb
 from ._names import DEFAULT_MAX_DT
+
+if TYPE_CHECKING:
+    from ..rig.camera import StereoRig
 
 __all__ = ["Frame", "Sequence", "open_sequence", "COLOR_SUFFIXES"]
 
 #: Color file extensions a folder's ``color/`` may hold.
 COLOR_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".npy", ".ppm", ".webp")
+
+#: What ``(depth_lr, rgb_hr)`` or the reason a frame cannot be read looks like.
+Loaded = Iterator[tuple["Frame", "tuple[np.ndarray, np.ndarray] | InputFileError"]]
 
 
 @dataclass(frozen=True)
@@ -56,13 +63,16 @@ class Frame:
     Attributes
     ----------
     key : str
-        The output stem (file stem, or the depth time in ns for bags).
+        The output stem (file stem, or the depth time in ns for bags and recordings).
     depth, color : str
         Where the images come from, for messages and ``batch.json``.
     suffix : str
         Extension of the output file (keeps the depth's dtype).
     problem : str or None
-        Why the frame cannot be processed (no partner), else ``None``.
+        Why the frame cannot be processed (a folder's depth file without a
+        color file), else ``None``.
+    stamp_ns : int or None
+        The depth frame's time stamp, ns (None for folders and manifests).
     """
 
     key: str
@@ -72,39 +82,100 @@ class Frame:
     problem: str | None = None
     depth_ref: Any = field(default=None, repr=False, compare=False)
     color_ref: Any = field(default=None, repr=False, compare=False)
+    stamp_ns: int | None = None
 
 
 @dataclass
 class Sequence:
-    """The paired frames of one input (see :func:`open_sequence`)."""
+    """The paired frames of one input (see :func:`open_sequence`).
+
+    Attributes
+    ----------
+    source : Path
+        The input.
+    kind : str
+        ``"folder"``, ``"manifest"``, ``"ros1"``, ``"ros2"``, ``"realsense"`` or ``"k4a"``.
+    frames : list of Frame
+        The pairs, in time (or file) order.
+    notes : list of str
+        Remarks for the user (extra color files of a folder).
+    topics : dict
+        ``{"depth": ..., "color": ...}``: the bag topics or the recording's tracks.
+    folders : tuple of Path
+        Folders the input lives in (an output folder may not be inside).
+    rig : StereoRig or None
+        The recording's own calibration (depth camera, color camera, extrinsics).
+    depth_units : float or None
+        Metres per depth unit of the stored depth (0.001 for millimetres).
+    frame_rate : float or None
+        Frames per second of the depth stream.
+    unpaired : list of dict
+        ``{"stream": "depth" | "color", "stamp_ns": int, "why": str}`` for each
+        frame without a partner within ``max_dt`` (not failures).
+    raw : bool
+        True when depth and color are not registered: each frame must go through
+        the rig chain (undistort, align) before it is refined.
+    rig_source : str or None
+        Where :attr:`rig` comes from, for messages.
+    rig_problem : str or None
+        Why a raw input has no :attr:`rig` and what to pass instead (see :meth:`require_rig`).
+    """
 
     source: Path
-    kind: str  # "folder", "manifest", "ros1", "ros2"
+    kind: str
     frames: list[Frame]
     notes: list[str] = field(default_factory=list)
     topics: dict[str, str] = field(default_factory=dict)
-    folders: tuple[Path, ...] = ()  # folders the input lives in (an output folder may not be inside)
+    folders: tuple[Path, ...] = ()
+    rig: StereoRig | None = None
+    depth_units: float | None = None
+    frame_rate: float | None = None
+    unpaired: list[dict] = field(default_factory=list)
+    raw: bool = False
+    rig_source: str | None = None
+    rig_problem: str | None = None
+    reader: Callable[[Sequence, list[Frame]], Iterator[tuple[Frame, Any]]] | None = field(
+        default=None, repr=False, compare=False)
 
     def describe(self) -> dict[str, Any]:
         """JSON-ready description for ``batch.json``."""
         out: dict[str, Any] = {"path": str(self.source), "kind": self.kind, "frames": len(self.frames)}
         if self.topics:
             out["topics"] = dict(self.topics)
+        if self.kind not in ("folder", "manifest"):
+            out["raw"] = self.raw
+            out["rig"] = _rig_summary(self.rig, self.rig_source)
+            out["depth_units"] = self.depth_units
+            out["frame_rate"] = None if self.frame_rate is None else round(self.frame_rate, 3)
+            out["unpaired"] = len(self.unpaired)
         if self.notes:
             out["notes"] = list(self.notes)
         return out
 
-    def load(self, frames: Iterable[Frame], *, saturated_invalid: bool = False
-             ) -> Iterator[tuple[Frame, tuple[np.ndarray, np.ndarray] | InputFileError]]:
+    def require_rig(self) -> StereoRig:
+        """The recording's rig, or an :class:`InputFileError` saying what is missing and what to pass."""
+        if self.rig is not None:
+            return self.rig
+        raise InputFileError(self.rig_problem or f"input {self.source} holds no calibration of its cameras; pass "
+                                                 "--rig rig.json (from `depthrefine calibrate-stereo` or "
+                                                 "`depthrefine rig import`).")
+
+    def load(self, frames: Iterable[Frame], *, saturated_invalid: bool = False) -> Loaded:
         """Decode ``frames`` (in the order given): yield ``(frame, (depth_lr, rgb_hr))``.
 
-        A frame that cannot be read yields ``(frame, InputFileError)``
-        instead; the others go on. Bags are read in one pass in recording
-        order, so ``frames`` must keep the sequence's order.
+        Depth comes as stored (uint16 for Kinect and RealSense, float32 for
+        metric bags), color as RGB. A frame that cannot be read yields
+        ``(frame, InputFileError)`` instead; the others go on. Bags and
+        recordings are read in one pass in recording order over the span the
+        frames cover, so ``frames`` must keep the sequence's order.
         """
         frames = list(frames)
-        if self.kind in ("ros1", "ros2"):
-            yield from _load_bag(self, frames)
+        if self.reader is not None:
+            for frame, data in self.reader(self, frames):
+                if saturated_invalid and not isinstance(data, BaseException) and data[0].dtype.kind in "ui":
+                    depth = data[0]
+                    data = (np.where(depth == np.iinfo(depth.dtype).max, depth.dtype.type(0), depth), data[1])
+                yield frame, data
             return
         for frame in frames:
             if frame.problem is not None:
@@ -119,6 +190,18 @@ class Sequence:
             yield frame, (depth, rgb)
 
 
+def _rig_summary(rig: StereoRig | None, source: str | None) -> dict[str, Any] | None:
+    if rig is None:
+        return None
+    return {
+        "source": source,
+        "depth": "x".join(map(str, rig.depth_camera.image_size)),
+        "color": "x".join(map(str, rig.color_camera.image_size)),
+        "baseline_mm": round(float(np.linalg.norm(rig.t)) * 1000, 2),
+        "rotation_deg": round(rig.rotation_degrees, 3),
+    }
+
+
 def open_sequence(
     path: str | os.PathLike,
     *,
@@ -126,36 +209,51 @@ def open_sequence(
     color_topic: str | None = None,
     max_dt: float = DEFAULT_MAX_DT,
 ) -> Sequence:
-    """Find and pair the frames of a folder, CSV manifest or ROS bag (no decoding).
+    """Find and pair the frames of a folder, CSV manifest, ROS bag or Azure Kinect recording (no decoding).
+
+    Parameters
+    ----------
+    path : path
+        A folder with ``depth/`` and ``color/``, a ``.csv`` manifest, a ROS 1
+        ``.bag`` (also RealSense), a ROS 2 bag folder, ``.db3`` or ``.mcap``
+        file, or an Azure Kinect ``.mkv``.
+    depth_topic, color_topic : str, optional
+        Bags: the image topics; found automatically when the choice is unambiguous.
+    max_dt : float
+        Bags and recordings: the largest time between a depth frame and its
+        color frame, seconds.
 
     Raises
     ------
     InputFileError
         A missing or empty input, a folder without ``depth/`` and ``color/``,
         a manifest without ``depth`` and ``color`` columns, two frames with
-        the same output stem, a bag without the topics (the message lists the
-        bag's topics), or topics given for a non-bag input.
+        the same output stem, a bag whose topics cannot be found (the message
+        lists the candidates), a recording without a depth or color track,
+        or topics given for an input that is not a bag.
     """
     p = Path(path)
     if not p.exists():
-        raise InputFileError(f"input {p} does not exist; give a folder with depth/ and color/, a CSV manifest "
-                             "or a ROS bag.")
-    bag = _bag_kind(p)
+        raise InputFileError(f"input {p} does not exist; give a folder with depth/ and color/, a CSV manifest, "
+                             "a ROS bag or an Azure Kinect .mkv recording.")
+    from . import _bags, _mkv
+
+    bag = _bags.bag_kind(p)
     if bag is None and (depth_topic or color_topic):
         raise InputFileError(f"input {p} is not a ROS bag; --depth-topic and --color-topic are for bags only.")
+    if (bag is not None or _mkv.is_mkv(p)) and not (max_dt >= 0):
+        raise InputFileError(f"--max-dt must be >= 0 seconds; got {max_dt}.")
     if bag is not None:
-        if not depth_topic or not color_topic:
-            raise InputFileError(f"input {p} is a ROS bag; give --depth-topic and --color-topic "
-                                 f"(its topics: {_topic_list(p)}).")
-        if not (max_dt >= 0):
-            raise InputFileError(f"--max-dt must be >= 0 seconds; got {max_dt}.")
-        return _open_bag(p, bag, depth_topic, color_topic, max_dt)
+        return _bags.open_bag(p, bag, depth_topic, color_topic, max_dt)
+    if _mkv.is_mkv(p):
+        return _mkv.open_mkv(p, max_dt)
     if p.is_dir():
         return _open_folder(p)
     if p.suffix.lower() == ".csv":
         return _open_manifest(p)
-    raise InputFileError(f"input {p} is neither a folder with depth/ and color/, a .csv manifest nor a ROS bag "
-                         "(.bag, or a ROS 2 bag folder with metadata.yaml).")
+    raise InputFileError(f"input {p} is none of the inputs batch reads: a folder with depth/ and color/, a .csv "
+                         "manifest, a ROS bag (.bag, a ROS 2 bag folder, .db3 or .mcap) or an Azure Kinect "
+                         "recording (.mkv).")
 
 
 # ----------------------------------------------------------------------------
@@ -242,107 +340,82 @@ def _extra_note(n: int, what: str, why: str, names: list) -> str:
 
 
 # ----------------------------------------------------------------------------
-# ROS bags
+# time-stamped streams (bags, recordings): pairing and one-pass decoding
 # ----------------------------------------------------------------------------
 
 
-def _bag_kind(p: Path) -> str | None:
-    if p.is_file() and p.suffix.lower() == ".bag":
-        return "ros1"
-    if p.is_dir() and (p / "metadata.yaml").is_file():
-        return "ros2"
-    if p.is_file() and p.suffix.lower() in (".db3", ".mcap"):
-        return "ros2"
-    return None
+def pair_streams(
+    depth: list[tuple[int, Any]],
+    color: list[tuple[int, Any]],
+    max_dt: float,
+    *,
+    names: tuple[str, str],
+    suffix: str,
+    color_shift_ns: int = 0,
+) -> tuple[list[Frame], list[dict]]:
+    """Frames of two time-stamped streams, and the frames left without a partner.
 
+    Parameters
+    ----------
+    depth, color : list of (stamp_ns, ref)
+        Each stream's frames; ``ref`` tells the reader where a frame is.
+    max_dt : float
+        Seconds.
+    names : (str, str)
+        The depth and color stream's names, for messages (topics, tracks).
+    suffix : str
+        Output extension.
+    color_shift_ns : int
+        Added to color stamps before pairing (a recorder's known delay).
 
-def _reader(p: Path):
-    try:
-        from rosbags.highlevel import AnyReader
-        from rosbags.typesys import Stores, get_typestore
-    except ImportError:  # pragma: no cover - a dependency
-        raise InputFileError("reading ROS bags needs the rosbags package: pip install rosbags") from None
-    target = p.parent if p.is_file() and p.suffix.lower() in (".db3", ".mcap") else p
-    return AnyReader([target], default_typestore=get_typestore(Stores.LATEST))
-
-
-def _topic_list(p: Path) -> str:
-    try:
-        with _reader(p) as reader:
-            topics = {c.topic: c.msgtype for c in reader.connections}
-    except Exception as exc:  # noqa: BLE001 - any failure of the bag reader is a bad bag
-        raise InputFileError(f"ROS bag {p} cannot be read ({type(exc).__name__}: {exc}).") from None
-    return ", ".join(f"{t} ({m})" for t, m in sorted(topics.items())) or "none"
-
-
-_IMAGE = "sensor_msgs/msg/Image"
-_COMPRESSED = "sensor_msgs/msg/CompressedImage"
-
-
-def _stamp(msg, logtime: int) -> int:
-    header = getattr(msg, "header", None)
-    if header is not None:
-        ns = int(header.stamp.sec) * 1_000_000_000 + int(header.stamp.nanosec)
-        if ns > 0:
-            return ns
-    return int(logtime)
-
-
-def _open_bag(p: Path, kind: str, depth_topic: str, color_topic: str, max_dt: float) -> Sequence:
-    try:
-        reader_cm = _reader(p)
-        with reader_cm as reader:
-            topics = {c.topic: c.msgtype for c in reader.connections}
-            for name, topic in (("--depth-topic", depth_topic), ("--color-topic", color_topic)):
-                if topic not in topics:
-                    listed = ", ".join(f"{t} ({m})" for t, m in sorted(topics.items())) or "none"
-                    raise InputFileError(f"ROS bag {p} has no topic {topic!r} ({name}); its topics: {listed}.")
-                if topics[topic] not in (_IMAGE, _COMPRESSED):
-                    raise InputFileError(f"ROS bag {p}: topic {topic} holds {topics[topic]}; {name} needs "
-                                         "sensor_msgs/Image or sensor_msgs/CompressedImage.")
-            conns = [c for c in reader.connections if c.topic in (depth_topic, color_topic)]
-            stamps: dict[str, list[tuple[int, int]]] = {depth_topic: [], color_topic: []}
-            counters = {depth_topic: 0, color_topic: 0}
-            encodings: dict[str, str] = {}
-            for conn, logtime, raw in reader.messages(connections=conns):
-                msg = reader.deserialize(raw, conn.msgtype)
-                index = counters[conn.topic]
-                counters[conn.topic] += 1
-                stamps[conn.topic].append((_stamp(msg, logtime), index))
-                if conn.topic == depth_topic and depth_topic not in encodings:
-                    encodings[depth_topic] = getattr(msg, "encoding", None) or getattr(msg, "format", "")
-    except InputFileError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - any failure of the bag reader is a bad bag
-        raise InputFileError(f"ROS bag {p} cannot be read ({type(exc).__name__}: {exc}).") from None
-    if not stamps[depth_topic]:
-        raise InputFileError(f"ROS bag {p}: topic {depth_topic} holds no messages; nothing to refine.")
-    suffix = ".tif" if encodings.get(depth_topic, "").lower() in ("32fc1", "64fc1") else ".png"
-    depth_st = sorted(stamps[depth_topic])
-    color_st = sorted(stamps[color_topic])
-    pairs = _pair_nearest([t for t, _ in depth_st], [t for t, _ in color_st], int(round(max_dt * 1e9)))
-    frames = []
-    for i, (t, index) in enumerate(depth_st):
-        where = f"{depth_topic} @ {t}"
+    Examples
+    --------
+    >>> frames, unpaired = pair_streams([(0, "d0"), (100, "d1")], [(3, "c0")], 0.00001, names=("d", "c"),
+    ...                                 suffix=".png")
+    >>> [f.key for f in frames], [u["stream"] for u in unpaired]
+    (['0'], ['depth'])
+    """
+    depth = sorted(depth, key=lambda item: item[0])
+    color = sorted(color, key=lambda item: item[0])
+    max_ns = int(round(max_dt * 1e9))
+    depth_t = [t for t, _ in depth]
+    color_t = [t + color_shift_ns for t, _ in color]
+    pairs = _pair_nearest(depth_t, color_t, max_ns)
+    window = f"{max_dt * 1000:g} ms"
+    frames, unpaired = [], []
+    for i, (t, ref) in enumerate(depth):
         j = pairs.get(i)
         if j is None:
-            frames.append(Frame(str(t), where, "", suffix,
-                                f"depth frame {where} ns has no color frame on {color_topic} within "
-                                f"{max_dt * 1000:g} ms (raise --max-dt to pair it)", (depth_topic, index), None))
-        else:
-            tc, cindex = color_st[j]
-            frames.append(Frame(str(t), where, f"{color_topic} @ {tc}", suffix, None,
-                                (depth_topic, index), (color_topic, cindex)))
+            near = _within(color_t, t, max_ns)
+            why = (f"no color frame on {names[1]} within {window}" if not near else
+                   f"the color frames within {window} are paired with nearer depth frames")
+            unpaired.append({"stream": "depth", "stamp_ns": int(t), "why": why})
+            continue
+        tc, cref = color[j]
+        frames.append(Frame(str(t), f"{names[0]} @ {t}", f"{names[1]} @ {tc}", suffix, None, ref, cref, int(t)))
+    used = set(pairs.values())
+    for j, (tc, _) in enumerate(color):
+        if j not in used:
+            near = _within(depth_t, color_t[j], max_ns)
+            why = (f"no depth frame on {names[0]} within {window}" if not near else
+                   f"the depth frames within {window} are paired with nearer color frames")
+            unpaired.append({"stream": "color", "stamp_ns": int(tc), "why": why})
+    unpaired.sort(key=lambda u: (u["stamp_ns"], u["stream"]))
+    if depth and color and not frames:
+        span = lambda ts: f"{min(ts) / 1e9:.3f} to {max(ts) / 1e9:.3f} s"  # noqa: E731
+        raise InputFileError(f"no depth frame on {names[0]} has a color frame on {names[1]} within {window} (depth "
+                             f"stamps {span(depth_t)}, color {span(color_t)}); raise --max-dt, or check that both "
+                             "streams use the same clock.")
     keys = [f.key for f in frames]
     if len(set(keys)) != len(keys):
-        raise InputFileError(f"ROS bag {p}: two depth frames on {depth_topic} have the same time stamp; "
-                             "their outputs would collide.")
-    used = set(pairs.values())
-    extra = [color_st[j][0] for j in range(len(color_st)) if j not in used]
-    notes = [_extra_note(len(extra), f"color frame on {color_topic}", "no depth frame within "
-                         f"{max_dt * 1000:g} ms", extra)] if extra else []
-    return Sequence(p, kind, frames, notes, topics={"depth": depth_topic, "color": color_topic},
-                    folders=(p,) if p.is_dir() else ())
+        raise InputFileError(f"two depth frames on {names[0]} have the same time stamp; their outputs would "
+                             "collide.")
+    return frames, unpaired
+
+
+def _within(times: list[int], t: int, max_ns: int) -> bool:
+    lo = np.searchsorted(times, t - max_ns, "left")
+    return bool(lo < len(times) and times[lo] <= t + max_ns)
 
 
 def _pair_nearest(depth_t: list[int], color_t: list[int], max_ns: int) -> dict[int, int]:
@@ -368,127 +441,84 @@ def _pair_nearest(depth_t: list[int], color_t: list[int], max_ns: int) -> dict[i
     return pairs
 
 
-def _load_bag(seq: Sequence, frames: list[Frame]):
-    """Decode ``frames`` in one pass over the bag; yield them in the order given."""
-    want: dict[tuple[str, int], list[tuple[int, str]]] = {}
+def load_in_one_pass(
+    frames: list[Frame],
+    messages: Callable[[set], Iterable[tuple[Any, Any]]],
+    decode: Callable[[str, Any, str], Any],
+    source: str,
+) -> Loaded:
+    """Decode ``frames`` from one pass over a recording; yield them in the order given.
+
+    Parameters
+    ----------
+    frames : list of Frame
+        In the recording's order.
+    messages : callable
+        ``messages(refs)`` yields ``(ref, payload)`` in file order, at least
+        for every ref of ``refs`` (it may restrict its pass to their span).
+    decode : callable
+        ``decode(role, payload, where)`` with role ``"depth"`` or ``"color"``:
+        the image, or raises :class:`InputFileError`.
+    source : str
+        The recording, for messages.
+    """
+    want: dict[Any, list[tuple[int, str]]] = {}
     for n, frame in enumerate(frames):
-        if frame.problem is None:
-            want.setdefault(frame.depth_ref, []).append((n, "depth"))
-            want.setdefault(frame.color_ref, []).append((n, "color"))
+        want.setdefault(frame.depth_ref, []).append((n, "depth"))
+        want.setdefault(frame.color_ref, []).append((n, "color"))
     parts: dict[int, dict[str, Any]] = {}
     next_out = 0
 
     def ready():
         nonlocal next_out
         while next_out < len(frames):
-            frame = frames[next_out]
-            if frame.problem is not None:
-                yield frame, InputFileError(frame.problem)
-            else:
-                got = parts.get(next_out, {})
-                if len(got) < 2:
-                    return
-                del parts[next_out]
-                bad = next((v for v in (got["depth"], got["color"]) if isinstance(v, InputFileError)), None)
-                yield frame, bad if bad is not None else (got["depth"], got["color"])
+            got = parts.get(next_out, {})
+            if len(got) < 2:
+                return
+            del parts[next_out]
+            bad = next((v for v in (got["depth"], got["color"]) if isinstance(v, InputFileError)), None)
+            yield frames[next_out], bad if bad is not None else (got["depth"], got["color"])
             next_out += 1
 
-    yield from ready()
     if want:
-        topics = (seq.topics["depth"], seq.topics["color"])
-        counters = dict.fromkeys(topics, 0)
         try:
-            with _reader(seq.source) as reader:
-                conns = [c for c in reader.connections if c.topic in topics]
-                for conn, logtime, raw in reader.messages(connections=conns):
-                    ref = (conn.topic, counters[conn.topic])
-                    counters[conn.topic] += 1
-                    users = want.pop(ref, None)
-                    if not users:
-                        continue
-                    for n, role in users:
-                        where = frames[n].depth if role == "depth" else frames[n].color
-                        try:
-                            msg = reader.deserialize(raw, conn.msgtype)
-                            value = _decode_depth(msg, where) if role == "depth" else _decode_color(msg, where)
-                        except InputFileError as exc:
-                            value = exc
-                        except Exception as exc:  # noqa: BLE001 - a message that does not decode is bad input
-                            value = InputFileError(f"{role} frame {where} cannot be decoded "
-                                                   f"({type(exc).__name__}: {exc}).")
-                        parts.setdefault(n, {})[role] = value
-                    yield from ready()
-                    if not want:
-                        break
+            for ref, payload in messages(set(want)):
+                users = want.pop(ref, None)
+                if not users:
+                    continue
+                for n, role in users:
+                    where = frames[n].depth if role == "depth" else frames[n].color
+                    try:
+                        value = decode(role, payload, where)
+                    except InputFileError as exc:
+                        value = exc
+                    except Exception as exc:  # noqa: BLE001 - a frame that does not decode is bad input
+                        value = InputFileError(f"{role} frame {where} cannot be decoded ({type(exc).__name__}: "
+                                               f"{exc}).")
+                    parts.setdefault(n, {})[role] = value
+                yield from ready()
+                if not want:
+                    break
         except InputFileError:
             raise
-        except Exception as exc:  # noqa: BLE001 - the bag broke while reading
-            raise InputFileError(f"ROS bag {seq.source} cannot be read ({type(exc).__name__}: {exc}).") from None
-    for n, frame in enumerate(frames[next_out:], start=next_out):  # messages the bag did not deliver
+        except Exception as exc:  # noqa: BLE001 - the file broke while reading
+            raise InputFileError(f"{source} cannot be read ({type(exc).__name__}: {exc}).") from None
+    for n, frame in enumerate(frames[next_out:], start=next_out):  # frames the file did not deliver
         for role in ("depth", "color"):
             parts.setdefault(n, {}).setdefault(role, InputFileError(f"{role} frame of {frame.key} is missing "
-                                                                    f"from ROS bag {seq.source}."))
+                                                                    f"from {source}."))
     yield from ready()
 
 
-# sensor_msgs/Image encodings: (dtype, channels, BGR order)
-_ENCODINGS = {
-    "16uc1": (np.uint16, 1, False), "mono16": (np.uint16, 1, False), "32fc1": (np.float32, 1, False),
-    "64fc1": (np.float64, 1, False), "8uc1": (np.uint8, 1, False), "mono8": (np.uint8, 1, False),
-    "rgb8": (np.uint8, 3, False), "bgr8": (np.uint8, 3, True), "rgba8": (np.uint8, 4, False),
-    "bgra8": (np.uint8, 4, True), "rgb16": (np.uint16, 3, False), "bgr16": (np.uint16, 3, True),
-    "rgba16": (np.uint16, 4, False), "bgra16": (np.uint16, 4, True), "8uc3": (np.uint8, 3, True),
-}
+def frame_rate_of(stamps_ns: list[int]) -> float | None:
+    """Frames per second from time stamps (the median period); None with fewer than two.
 
-
-def _raw_image(msg, where: str) -> tuple[np.ndarray, bool]:
-    encoding = str(msg.encoding).lower()
-    if encoding not in _ENCODINGS:
-        raise InputFileError(f"frame {where} has image encoding {msg.encoding!r}; supported: "
-                             f"{', '.join(sorted(_ENCODINGS))}.")
-    dtype, channels, bgr = _ENCODINGS[encoding]
-    dt = np.dtype(dtype).newbyteorder(">" if msg.is_bigendian else "<")
-    h, w, step = int(msg.height), int(msg.width), int(msg.step)
-    row_bytes = w * channels * dt.itemsize
-    data = np.asarray(msg.data, dtype=np.uint8).ravel()
-    if h < 1 or w < 1 or step < row_bytes or data.size < h * step:
-        raise InputFileError(f"frame {where} is damaged: {w}x{h} {msg.encoding} with step {step} needs "
-                             f"{h * max(step, row_bytes)} bytes, the message has {data.size}.")
-    rows = np.ascontiguousarray(data[:h * step].reshape(h, step)[:, :row_bytes])
-    arr = rows.view(dt).reshape(h, w, channels).astype(dtype, copy=False)
-    return (arr[:, :, 0] if channels == 1 else arr), bgr
-
-
-def _decode_depth(msg, where: str) -> np.ndarray:
-    if not hasattr(msg, "encoding"):
-        raise InputFileError(f"depth frame {where} is a CompressedImage ({msg.format!r}); record depth as a raw "
-                             "sensor_msgs/Image (16UC1 or 32FC1).")
-    depth, _ = _raw_image(msg, where)
-    if depth.ndim != 2:
-        raise InputFileError(f"depth frame {where} has {depth.shape[2]} channels ({msg.encoding}); depth is one "
-                             "channel: 16UC1 (mm) or 32FC1 (m).")
-    if depth.dtype == np.float64:
-        depth = depth.astype(np.float32)
-    return np.ascontiguousarray(depth)
-
-
-def _decode_color(msg, where: str) -> np.ndarray:
-    import cv2
-
-    if hasattr(msg, "encoding"):
-        rgb, bgr = _raw_image(msg, where)
-        if bgr:
-            rgb = rgb[:, :, [2, 1, 0]]
-    else:
-        buf = np.asarray(msg.data, dtype=np.uint8).ravel()
-        img = cv2.imdecode(buf, cv2.IMREAD_UNCHANGED) if buf.size else None
-        if img is None:
-            raise InputFileError(f"color frame {where} ({msg.format!r}) cannot be decoded; it is damaged or not "
-                                 "JPEG/PNG.")
-        if img.ndim == 3:
-            img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGB if img.shape[2] == 4 else cv2.COLOR_BGR2RGB)
-        rgb = img
-    try:
-        return np.ascontiguousarray(check_rgb(rgb, name=f"color frame {where}"))
-    except (TypeError, ValueError) as exc:
-        raise InputFileError(str(exc)) from None
+    Examples
+    --------
+    >>> frame_rate_of([0, 33_333_333, 66_666_667, 100_000_000])
+    30.0
+    """
+    if len(stamps_ns) < 2:
+        return None
+    period = float(np.median(np.diff(np.sort(np.asarray(stamps_ns, dtype=np.int64)))))
+    return round(1e9 / period, 3) if period > 0 else None

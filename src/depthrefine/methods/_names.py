@@ -7,21 +7,34 @@ fast (issue 13); :mod:`.registry` registers exactly these, in this order.
 
 from __future__ import annotations
 
+import importlib
 import sys
-from typing import Iterator
+from typing import TYPE_CHECKING, Iterator
 
-__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "RegisteredMethodNames"]
+if TYPE_CHECKING:
+    from .options import MethodOption
+
+__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "RegisteredMethodNames",
+           "registered_method_options"]
 
 #: The method of :func:`depthrefine.refine` and of the commands when none is named: guided
 #: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).
 DEFAULT_METHOD = "gbp"
 
 #: Every built-in method, in the order the registry registers them.
-BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp")
+BUILTIN_METHODS = ("thesis", "nearest", "bilinear", "bicubic", "jbf", "guided", "fgs", "wmf", "fbs", "gbp", "gbp-fast")
 
 #: Built-in methods registered only where a check at the registry's import says they work: the fast
 #: bilateral solver needs an OpenCV built with Eigen (:func:`~depthrefine.methods.peers.fast_bilateral_solver_status`).
 PROBED_METHODS = ("fbs",)
+
+#: The light modules holding the built-in methods' command-line options (an ``OPTIONS`` tuple each); the
+#: registry gives each method the same tuple (``Method.options``).
+BUILTIN_OPTION_MODULES = {"thesis": "depthrefine.methods.thesis._options"}
+
+#: Built-in methods that run numba's compiled kernels: the command line sets numba up in a thread while it
+#: reads the images (:func:`depthrefine._numba.warm_up`).
+COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
 
 _REGISTRY = "depthrefine.methods.registry"
 
@@ -58,3 +71,22 @@ class RegisteredMethodNames:
         from .registry import METHODS
 
         return name in METHODS
+
+
+def registered_method_options() -> dict[str, tuple[MethodOption, ...]]:
+    """Each method's own command-line options (``Method.options``), for the parsers of the refining commands.
+
+    Reads :data:`~depthrefine.methods.registry.METHODS` when the registry is
+    imported already, else the built-in methods' light option modules
+    (:data:`BUILTIN_OPTION_MODULES`), so that ``--help`` imports neither numpy nor OpenCV.
+    Methods without options are left out.
+
+    Examples
+    --------
+    >>> [option.flag for option in registered_method_options()["thesis"]]
+    ['--patches', '--patch-file', '--clusters']
+    """
+    registry = sys.modules.get(_REGISTRY)
+    if registry is not None:
+        return {name: entry.options for name, entry in registry.METHODS.items() if entry.options}
+    return {name: importlib.import_module(module).OPTIONS for name, module in BUILTIN_OPTION_MODULES.items()}

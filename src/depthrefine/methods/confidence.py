@@ -52,9 +52,10 @@ from .._validate import as_depth
 if TYPE_CHECKING:
     from .registry import Method
 
-__all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "generic_confidence",
-           "steepness_confidence", "error_terms", "expected_error", "confidence_from_error", "depth_level",
-           "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS", "HOLE_RANGE_NOISE", "DISAGREE_WEIGHT", "NOISE_SHARE",
+__all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "confidence_on_grid",
+           "apply_min_confidence", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
+           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS",
+           "HOLE_RANGE_NOISE", "DISAGREE_WEIGHT", "NOISE_SHARE",
            "ERROR_SCALE", "CONFIDENCE_LEVELS"]
 
 #: Weight of the output's steepness within one color pixel (3x3), in color pixels.
@@ -149,6 +150,43 @@ def confidence_of(entry: Method, depth_lr: np.ndarray, rgb_hr: np.ndarray, depth
     if entry.confidence is None:
         return generic_confidence(depth_lr, depth_hr)
     return entry.confidence(depth_lr, rgb_hr, params=params, progress=None)[1]
+
+
+def confidence_on_grid(confidence: np.ndarray, depth_hr: np.ndarray) -> np.ndarray:
+    """``confidence`` on ``depth_hr``'s grid (nearest, when a chain resized the result after refining), 0 where
+    ``depth_hr`` has no depth.
+
+    Examples
+    --------
+    >>> depth = np.array([[1.0, np.nan, 2.0, 2.0]] * 2, np.float32)
+    >>> confidence_on_grid(np.array([[0.5, 0.75]], np.float32), depth).tolist()
+    [[0.5, 0.0, 0.75, 0.75], [0.5, 0.0, 0.75, 0.75]]
+    """
+    import cv2
+
+    confidence = np.asarray(confidence, dtype=np.float32)
+    if confidence.shape != depth_hr.shape:
+        rows, cols = depth_hr.shape
+        confidence = cv2.resize(confidence, (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT)
+    return np.where(np.isfinite(depth_hr), confidence, np.float32(0.0)).astype(np.float32)
+
+
+def apply_min_confidence(depth_hr: np.ndarray, confidence: np.ndarray | None,
+                         minimum: float | None) -> tuple[np.ndarray, np.ndarray | None]:
+    """``depth_hr`` with NaN (written as 0, no measurement) where ``confidence < minimum``, and the confidence
+    with 0 there (no depth); both unchanged without a minimum.
+
+    Examples
+    --------
+    >>> depth, confidence = apply_min_confidence(np.array([1.0, 2.0]), np.array([0.2, 0.8]), 0.5)
+    >>> depth.tolist(), confidence.tolist()
+    ([nan, 2.0], [0.0, 0.800000011920929])
+    """
+    if minimum is None or confidence is None:
+        return depth_hr, confidence
+    below = confidence < minimum
+    return (np.where(below, np.float32(np.nan), depth_hr).astype(np.float32),
+            np.where(below, np.float32(0.0), confidence).astype(np.float32))
 
 
 def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray:

@@ -7,24 +7,33 @@ Every method has one signature::
 ``params`` is an instance of the method's own frozen parameter dataclass
 (``None`` for its defaults; methods without parameters take only ``None``).
 The CLI and the benchmark read this registry, so adding a method is one call
-to :func:`register_method`.
+to :func:`register_method`. The entry also declares what the layers around a
+method need to know of it: its command-line options (:mod:`.options`), an
+optional warm start for sequences, an optional hook that shows its steps
+(:mod:`.intermediates`), and whether it needs an integer scale factor.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
 
 from . import baselines, gbp, peers
+from .gbp.fast import GbpFastParams, upsample_gbp_fast
 from .._validate import check_pixels
 from ._names import DEFAULT_METHOD
+from .intermediates import Intermediates
+from .options import MethodOption
 from .scale import plan_scale
-from .thesis.params import RefineParams
+from .thesis._options import OPTIONS as THESIS_OPTIONS
+from .thesis.intermediates import thesis_intermediates
+from .thesis.params import ThesisParams
 from .thesis.refine import refine_thesis, refine_thesis_stateful
 
-__all__ = ["Method", "METHODS", "DEFAULT_METHOD", "register_method", "get_method", "refine"]
+__all__ = ["Method", "METHODS", "DEFAULT_METHOD", "register_method", "get_method", "refine", "refine_intermediates"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +66,21 @@ class Method:
         state goes with the next frame. ``depthrefine batch --temporal`` and
         :func:`depthrefine.batch.refine_many` (``temporal=True``) use it when
         present; methods without it run frame by frame.
+    options : tuple of MethodOption
+        The method's own command-line options, each setting one field of
+        ``params_type`` (the thesis's ``--patches``, ``--patch-file``,
+        ``--clusters``); every refining command adds them under "NAME method
+        options". Light: the parsers are built without importing the method.
+    intermediates : callable or None
+        Optional: ``intermediates(depth_lr, rgb_hr, *, params, progress) ->
+        (depth_hr, Intermediates)``, ``depth_hr`` bit for bit ``func``'s;
+        ``refine --save-intermediate`` writes what it returns
+        (:func:`refine_intermediates`).
+    scale_step : bool
+        Whether the method works at an integer factor: at a non-integer
+        color/depth ratio it resizes the color image first (the scale step of
+        :mod:`.scale`) and warns with :class:`~.scale.ScaleWarning`. The others
+        resize straight to the color grid.
     confidence : callable or None
         Optional confidence map from the method's own internals:
         ``confidence(depth_lr, rgb_hr, *, params=None, progress=None) ->
@@ -76,6 +100,9 @@ class Method:
     deterministic: bool = True
     interpolating: bool = False
     refine_stateful: Callable[..., tuple[np.ndarray, Any]] | None = None
+    options: tuple[MethodOption, ...] = ()
+    intermediates: Callable[..., tuple[np.ndarray, Intermediates]] | None = None
+    scale_step: bool = False
     confidence: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
 
     def default_params(self) -> Any:
@@ -97,19 +124,31 @@ def register_method(
     interpolating: bool = False,
     replace: bool = False,
     refine_stateful: Callable[..., tuple[np.ndarray, Any]] | None = None,
+    options: tuple[MethodOption, ...] = (),
+    intermediates: Callable[..., tuple[np.ndarray, Intermediates]] | None = None,
+    scale_step: bool = False,
     confidence: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> Method:
-    """Add a method to :data:`METHODS` and return its entry.
+    """Add a method to :data:`METHODS` and return its entry (the keywords are :class:`Method`'s attributes).
 
-    Raises ``ValueError`` if ``name`` is taken (unless ``replace=True``).
+    Raises ``ValueError`` if ``name`` is taken (unless ``replace=True``), or
+    if ``options`` are given without a ``params_type`` having their fields.
     """
     if not isinstance(name, str) or not name or not name.replace("-", "_").replace("_", "a").isalnum():
         raise ValueError(f"method name must be a non-empty word (letters, digits, '-', '_'); got {name!r}.")
     if name in METHODS and not replace:
         raise ValueError(f"a method named {name!r} is already registered; pass replace=True to replace it.")
+    options = tuple(options)
+    if options:
+        fields = set() if params_type is None else {f.name for f in dataclasses.fields(params_type)}
+        stray = [option.flag for option in options if not isinstance(option, MethodOption) or option.param not in fields]
+        if stray:
+            raise ValueError(f"method {name!r}: the options {stray} must be MethodOption instances setting fields of "
+                             f"its params_type ({params_type.__name__ if params_type else None}).")
     entry = Method(name=name, func=func, params_type=params_type, summary=summary, guided=guided,
                    deterministic=deterministic, interpolating=interpolating,
-                   refine_stateful=refine_stateful, confidence=confidence)
+                   refine_stateful=refine_stateful, options=options, intermediates=intermediates,
+                   scale_step=scale_step, confidence=confidence)
     METHODS[name] = entry
     return entry
 
@@ -154,8 +193,8 @@ def refine(
         ``"jbf"``, ``"guided"``, ``"fgs"``, ``"wmf"``, and any later registration.
     params : dataclass, optional
         The method's parameters (:class:`~depthrefine.methods.gbp.GbpParams`
-        for ``"gbp"``, :class:`RefineParams` for ``"thesis"``); ``None`` for
-        its defaults.
+        for ``"gbp"``, :class:`~depthrefine.methods.thesis.params.ThesisParams`
+        for ``"thesis"``); ``None`` for its defaults.
     progress : callable, optional
         ``progress(done, total)``, for long runs.
     max_pixels : int, optional
@@ -187,6 +226,36 @@ def refine(
     return entry.func(depth_lr, rgb_hr, params=params, progress=progress)
 
 
+def refine_intermediates(
+    depth_lr: np.ndarray,
+    rgb_hr: np.ndarray,
+    *,
+    method: str = DEFAULT_METHOD,
+    params: Any = None,
+    progress: Callable[[int, int], None] | None = None,
+    max_pixels: int | None = None,
+) -> tuple[np.ndarray, Intermediates | None]:
+    """:func:`refine`, and the method's intermediates when its entry has the hook (else ``None``).
+
+    The depth is :func:`refine`'s, bit for bit; the intermediates are what the
+    method's ``intermediates`` hook shows of its steps
+    (:class:`~.intermediates.Intermediates`).
+
+    Examples
+    --------
+    >>> depth_lr = np.full((4, 4), 30, np.uint8)
+    >>> rgb_hr = np.zeros((8, 8, 3), np.uint8)
+    >>> depth_hr, steps = refine_intermediates(depth_lr, rgb_hr, method="bilinear")
+    >>> depth_hr.shape, steps is None
+    ((8, 8), True)
+    """
+    entry = get_method(method)
+    check_call(entry, depth_lr, rgb_hr, params, max_pixels)
+    if entry.intermediates is None:
+        return entry.func(depth_lr, rgb_hr, params=params, progress=progress), None
+    return entry.intermediates(depth_lr, rgb_hr, params=params, progress=progress)
+
+
 def check_call(entry: Method, depth_lr: Any, rgb_hr: Any, params: Any, max_pixels: int | None = None) -> None:
     """The checks :func:`refine` makes before it calls ``entry``'s function (size, shapes, parameter type)."""
     method = entry.name
@@ -206,7 +275,8 @@ def check_call(entry: Method, depth_lr: Any, rgb_hr: Any, params: Any, max_pixel
             )
 
 
-register_method("thesis", refine_thesis, params_type=RefineParams, refine_stateful=refine_thesis_stateful,
+register_method("thesis", refine_thesis, params_type=ThesisParams, refine_stateful=refine_thesis_stateful,
+                options=THESIS_OPTIONS, intermediates=thesis_intermediates, scale_step=True,
                 summary="the thesis method: per-patch color k-means, histogram correction, "
                         "per-cluster interpolation (Chen 2014, ch. 4)", interpolating=True)
 register_method("nearest", baselines.upsample_nearest, summary="nearest-neighbour enlargement", guided=False,
@@ -232,3 +302,6 @@ register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolatin
                 refine_stateful=gbp.upsample_gbp_stateful, confidence=gbp.upsample_gbp_with_confidence,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")
+register_method("gbp-fast", upsample_gbp_fast, params_type=GbpFastParams, interpolating=True,
+                summary="gbp for video rates: back-projection on a reduced grid, one edge-aware solve at full "
+                        "resolution, the same fallback where the guide disagrees with the depth")

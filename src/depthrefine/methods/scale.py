@@ -21,11 +21,20 @@ import numpy as np
 
 from .._lazy import cv2
 
-__all__ = ["ScaleStep", "plan_scale", "resize_color", "MAX_ASPECT_MISMATCH"]
+__all__ = ["ScaleStep", "ScaleWarning", "plan_scale", "resize_color", "MAX_ASPECT_MISMATCH"]
 
 #: Largest relative difference between the row and column ratios that is
 #: still taken as one camera pair (beyond it the shapes do not belong together).
 MAX_ASPECT_MISMATCH = 0.05
+
+
+class ScaleWarning(UserWarning):
+    """The color/depth ratio is not an integer: the scale step resized the color image.
+
+    Raised by the methods that need an integer factor (``Method.scale_step``:
+    the thesis method); the others resize straight to the color grid and do
+    not warn.
+    """
 
 
 @dataclass(frozen=True)
@@ -60,12 +69,18 @@ class ScaleStep:
         """The color resize factor ``s / ratio`` (1.0 when none is needed)."""
         return self.factor / self.ratio
 
-    def describe(self) -> str:
-        """One line for the user: what the scale step did."""
+    def describe(self, *, direct: bool = False) -> str:
+        """One line for the user: what the scale step did.
+
+        ``direct``: for a method that does not take the scale step (it resizes
+        straight to the color grid), say so instead.
+        """
         h, w = self.color_shape
         wh, ww = self.work_shape
         if not self.resizes_color:
             return f"scale factor {self.factor} (color {w}x{h})"
+        if direct:
+            return f"ratio {self.ratio:.3f}, resized directly to {w}x{h}"
         return (
             f"non-integer ratio {self.ratio:.3f}: depth enlarged x{self.factor}, color resized "
             f"x{self.color_scale:.3f} ({w}x{h} -> {ww}x{wh}, bilinear) and the result resized "

@@ -9,7 +9,7 @@ start-up, issue 13); the modules that use them import them from here
 from __future__ import annotations
 
 __all__ = ["ALIGN_METHODS", "COLOR_SIDES", "ENCODINGS", "K4A_DEPTH_MODES", "K4A_COLOR_RESOLUTIONS",
-           "CALIBRATION_FORMATS", "MIN_VIEWS"]
+           "CALIBRATION_FORMATS", "MIN_VIEWS", "LENS_MODELS", "RECOMMENDED_VIEWS", "DEFAULT_MAX_RMS"]
 
 #: Alignment methods of :func:`~depthrefine.rig.chain.align_pair` (keys of the chain settings' ``method``).
 ALIGN_METHODS = ("reproject", "shift")
@@ -46,6 +46,26 @@ CALIBRATION_FORMATS = {
 }
 
 #: Fewest board views a calibration accepts. Zhang's method needs three
-#: views of a plane for the five intrinsic parameters; 10-20 views that
-#: cover the whole image give a good distortion estimate.
+#: views of a plane for the five intrinsic parameters; a stable lens fit
+#: needs more (:data:`RECOMMENDED_VIEWS`).
 MIN_VIEWS = 3
+
+#: The lens models a calibration fits, with the coefficients each one fits
+#: (OpenCV order; the others are held at 0).
+LENS_MODELS = {
+    "plain": "k1, k2, p1, p2; k3 held at 0",
+    "k3": "k1, k2, p1, p2, k3",
+    "rational": "k1, k2, p1, p2, k3, k4, k5, k6",
+}
+
+#: Views (pairs, for a stereo calibration that fits the cameras) below which
+#: a fit of each lens model is reported as unstable: with fewer, the fitted
+#: lens moves by pixels from one set of views to the next. From
+#: ``benchmarks/calibration_views.py`` (simulated views) and the 8 real
+#: Azure Kinect views against their 30-view reference; see docs/rig.md.
+RECOMMENDED_VIEWS = {"plain": 15, "k3": 20, "rational": 20}
+
+#: A fit whose RMS reprojection error is above this many pixels is refused
+#: (``calibrate --max-rms``): a board found in the wrong place, a wrong
+#: --board, or a lens the model cannot describe. Good fits reach 0.1-0.5 px.
+DEFAULT_MAX_RMS = 1.0

@@ -22,19 +22,27 @@ fits the rational model ``(k1, k2, p1, p2, k3, k4, k5, k6)`` of wide-angle lense
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
 
 from .._lazy import cv2
 from .._validate import is_int
-from ._names import MIN_VIEWS
+from ._names import LENS_MODELS, MIN_VIEWS, RECOMMENDED_VIEWS
 from .boards import MIN_VIEW_CORNERS, Board, BoardView, detect_board, usable
 from .camera import CameraModel, StereoRig
 
 __all__ = [
     "MIN_VIEWS",
+    "LENS_MODELS",
+    "RECOMMENDED_VIEWS",
+    "CalibrationFit",
+    "StereoFit",
+    "lens_model",
     "as_board",
+    "fit_camera",
+    "fit_stereo",
     "calibrate_from_views",
     "calibrate_from_corners",
     "calibrate_camera",
@@ -55,6 +63,72 @@ def as_board(board: Board | tuple[int, int], square_size: float | None = None) -
     return Board.checkerboard(board, square_size)
 
 
+def lens_model(*, estimate_k3: bool = False, rational: bool = False) -> str:
+    """The name in :data:`LENS_MODELS` of the model these options fit.
+
+    Examples
+    --------
+    >>> lens_model(), lens_model(estimate_k3=True), lens_model(rational=True)
+    ('plain', 'k3', 'rational')
+    """
+    return "rational" if rational else ("k3" if estimate_k3 else "plain")
+
+
+@dataclass(frozen=True, eq=False)
+class CalibrationFit:
+    """A single-camera calibration with what it rests on: the views and their reprojection residuals.
+
+    Attributes
+    ----------
+    camera : CameraModel
+        The fitted camera (``camera.rms``: RMS over all corners, pixels).
+    views : tuple of BoardView
+        The views fitted, in order.
+    residuals : tuple of (N_i, 2) float64 ndarray
+        Per view, each corner's reprojection minus its detection ``(x, y)``, pixels.
+    model : str
+        The lens model fitted (a key of :data:`LENS_MODELS`).
+    """
+
+    camera: CameraModel
+    views: tuple[BoardView, ...]
+    residuals: tuple[np.ndarray, ...]
+    model: str = "plain"
+
+    @property
+    def view_rms(self) -> np.ndarray:
+        """(V,) RMS reprojection error of each view, pixels."""
+        return np.array([math.sqrt(float(np.mean(np.sum(r * r, axis=1)))) if r.size else 0.0
+                         for r in self.residuals])
+
+    @property
+    def recommended_views(self) -> int:
+        """Views below which this model's fit is unstable (:data:`RECOMMENDED_VIEWS`)."""
+        return RECOMMENDED_VIEWS[self.model]
+
+
+@dataclass(frozen=True, eq=False)
+class StereoFit:
+    """A rig calibration with its per-pair reprojection errors and the cameras' own fits.
+
+    Attributes
+    ----------
+    rig : StereoRig
+    pair_rms : (P, 2) float64 ndarray
+        RMS reprojection error of each pair used, in the depth and the color image, pixels.
+    pairs : tuple of int
+        Index of each pair used in the given lists (pairs without the board in both are left out).
+    depth_fit, color_fit : CalibrationFit or None
+        The cameras' fits from the pairs' views (None for a camera whose intrinsics were given).
+    """
+
+    rig: StereoRig
+    pair_rms: np.ndarray
+    pairs: tuple[int, ...]
+    depth_fit: CalibrationFit | None = None
+    color_fit: CalibrationFit | None = None
+
+
 def _flags(estimate_k3: bool, rational: bool) -> tuple[int, int]:
     """calibrateCamera flags and the number of distortion coefficients kept."""
     if rational:
@@ -66,15 +140,15 @@ def _view_points(view: BoardView, board: Board) -> tuple[np.ndarray, np.ndarray]
     return board.points[view.ids], np.asarray(view.corners, np.float32).reshape(-1, 1, 2)
 
 
-def calibrate_from_views(
+def fit_camera(
     views: Sequence[BoardView],
     *,
     board: Board,
     image_size: tuple[int, int],
     estimate_k3: bool = False,
     rational: bool = False,
-) -> CameraModel:
-    """Calibrate one camera from board detections (OpenCV ``calibrateCamera``).
+) -> CalibrationFit:
+    """Calibrate one camera from board detections (OpenCV ``calibrateCamera``), keeping the residuals.
 
     Parameters
     ----------
@@ -93,9 +167,10 @@ def calibrate_from_views(
 
     Returns
     -------
-    CameraModel
-        ``dist`` holds ``(k1, k2, p1, p2, k3)`` (or the 8 rational
-        coefficients); ``rms`` the RMS reprojection error in pixels.
+    CalibrationFit
+        ``camera.dist`` holds ``(k1, k2, p1, p2, k3)`` (or the 8 rational
+        coefficients), ``camera.rms`` the RMS reprojection error in pixels;
+        ``residuals`` each view's corner residuals.
 
     Raises
     ------
@@ -118,8 +193,28 @@ def calibrate_from_views(
     width, height = _check_size(image_size)
     flags, n_dist = _flags(estimate_k3, rational)
     obj, img = zip(*(_view_points(v, board) for v in views))
-    rms, K, dist, _, _ = cv2.calibrateCamera(list(obj), list(img), (width, height), None, None, flags=flags)
-    return CameraModel(K, dist.ravel()[:n_dist], (width, height), float(rms))
+    rms, K, dist, rvecs, tvecs = cv2.calibrateCamera(list(obj), list(img), (width, height), None, None, flags=flags)
+    residuals = tuple(
+        cv2.projectPoints(o, r, t, K, dist)[0].reshape(-1, 2).astype(np.float64) - i.reshape(-1, 2)
+        for o, i, r, t in zip(obj, img, rvecs, tvecs))
+    return CalibrationFit(CameraModel(K, dist.ravel()[:n_dist], (width, height), float(rms)), tuple(views),
+                          residuals, lens_model(estimate_k3=estimate_k3, rational=rational))
+
+
+def calibrate_from_views(
+    views: Sequence[BoardView],
+    *,
+    board: Board,
+    image_size: tuple[int, int],
+    estimate_k3: bool = False,
+    rational: bool = False,
+) -> CameraModel:
+    """Calibrate one camera from board detections: the camera of :func:`fit_camera`.
+
+    See :func:`fit_camera` for the parameters; use it to get each view's
+    reprojection error too.
+    """
+    return fit_camera(views, board=board, image_size=image_size, estimate_k3=estimate_k3, rational=rational).camera
 
 
 def calibrate_from_corners(
@@ -156,7 +251,8 @@ def calibrate_from_corners(
     if len(arrays) < MIN_VIEWS:
         raise ValueError(
             f"calibration needs the board in at least {MIN_VIEWS} images; got {len(arrays)}. "
-            "Take more views (10-20 covering the whole image are best)."
+            f"Take more views ({RECOMMENDED_VIEWS[lens_model(estimate_k3=estimate_k3, rational=rational)]} or more "
+            "covering the whole image for this lens model)."
         )
     for i, v in enumerate(arrays):
         if v.shape[0] != cols * rows:
@@ -204,7 +300,7 @@ def calibrate_camera(
     return calibrate_from_views(views, board=spec, image_size=size, estimate_k3=estimate_k3, rational=rational)
 
 
-def calibrate_stereo_from_views(
+def fit_stereo(
     depth_views: Sequence[BoardView | None],
     color_views: Sequence[BoardView | None],
     *,
@@ -215,8 +311,8 @@ def calibrate_stereo_from_views(
     color_camera: CameraModel | None = None,
     estimate_k3: bool = False,
     rational: bool = False,
-) -> StereoRig:
-    """Calibrate a depth + color rig from board detections in pairs of images.
+) -> StereoFit:
+    """Calibrate a depth + color rig from board detections in pairs of images, keeping the per-pair errors.
 
     Parameters
     ----------
@@ -236,8 +332,9 @@ def calibrate_stereo_from_views(
 
     Returns
     -------
-    StereoRig
-        ``R``, ``t`` from ``stereoCalibrate`` with the intrinsics held fixed.
+    StereoFit
+        ``rig.R``, ``rig.t`` from ``stereoCalibrate`` with the intrinsics
+        held fixed; the RMS error of each pair used; the cameras' own fits.
 
     Raises
     ------
@@ -252,33 +349,60 @@ def calibrate_stereo_from_views(
             f"got {len(depth_views)} depth views and {len(color_views)} color views; "
             "give the images in pairs (the same board pose in both, in the same order)."
         )
-    pairs = []
-    for d, c in zip(depth_views, color_views):
+    pairs, used = [], []
+    for index, (d, c) in enumerate(zip(depth_views, color_views)):
         if not (usable(d, board) and usable(c, board)):
             continue
         common, d_idx, c_idx = np.intersect1d(d.ids, c.ids, assume_unique=True, return_indices=True)
         both = (BoardView(common.astype(np.int32), d.corners[d_idx]), BoardView(common.astype(np.int32), c.corners[c_idx]))
         if usable(both[0], board):
             pairs.append(both)
+            used.append(index)
     if len(pairs) < MIN_VIEWS:
         raise ValueError(
             f"the board was found in both images of {len(pairs)} pairs; a stereo calibration needs at "
             f"least {MIN_VIEWS}. Take more pairs with the board visible to both cameras."
         )
     fit = dict(board=board, estimate_k3=estimate_k3, rational=rational)
+    depth_fit = color_fit = None
     if depth_camera is None:
-        depth_camera = calibrate_from_views([d for d in depth_views if usable(d, board)], image_size=depth_size, **fit)
+        depth_fit = fit_camera([d for d in depth_views if usable(d, board)], image_size=depth_size, **fit)
+        depth_camera = depth_fit.camera
     if color_camera is None:
-        color_camera = calibrate_from_views([c for c in color_views if usable(c, board)], image_size=color_size, **fit)
+        color_fit = fit_camera([c for c in color_views if usable(c, board)], image_size=color_size, **fit)
+        color_camera = color_fit.camera
     obj = [board.points[d.ids] for d, _ in pairs]
-    rms, _, _, _, _, R, T, _, _ = cv2.stereoCalibrate(
+    rms, *_, R, T, _, _, _, _, pair_rms = cv2.stereoCalibrateExtended(
         obj,
         [d.corners.reshape(-1, 1, 2) for d, _ in pairs],
         [c.corners.reshape(-1, 1, 2) for _, c in pairs],
         depth_camera.K.copy(), depth_camera.dist.copy(), color_camera.K.copy(), color_camera.dist.copy(),
-        _check_size(depth_size), flags=cv2.CALIB_FIX_INTRINSIC,
+        _check_size(depth_size), None, None, flags=cv2.CALIB_FIX_INTRINSIC,
     )
-    return StereoRig(depth_camera, color_camera, R, T.ravel(), float(rms))
+    rig = StereoRig(depth_camera, color_camera, R, T.ravel(), float(rms))
+    return StereoFit(rig, np.asarray(pair_rms, np.float64).reshape(-1, 2), tuple(used), depth_fit, color_fit)
+
+
+def calibrate_stereo_from_views(
+    depth_views: Sequence[BoardView | None],
+    color_views: Sequence[BoardView | None],
+    *,
+    board: Board,
+    depth_size: tuple[int, int],
+    color_size: tuple[int, int],
+    depth_camera: CameraModel | None = None,
+    color_camera: CameraModel | None = None,
+    estimate_k3: bool = False,
+    rational: bool = False,
+) -> StereoRig:
+    """Calibrate a depth + color rig from board detections in pairs of images: the rig of :func:`fit_stereo`.
+
+    See :func:`fit_stereo` for the parameters; use it to get each pair's
+    reprojection error too.
+    """
+    return fit_stereo(depth_views, color_views, board=board, depth_size=depth_size, color_size=color_size,
+                      depth_camera=depth_camera, color_camera=color_camera, estimate_k3=estimate_k3,
+                      rational=rational).rig
 
 
 def calibrate_stereo_from_corners(

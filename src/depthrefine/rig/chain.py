@@ -23,7 +23,10 @@ from .shift import (COLOR_SIDES, ENCODINGS, MAX_SHIFT_MISREGISTRATION, align_shi
 from .undistort import undistort_depth, undistort_image
 
 __all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "unmeasured_on_grid",
-           "keep_unmeasured"]
+           "keep_unmeasured", "nearest_on_grid", "upsampling_grid", "refine_pair"]
+
+#: The smallest factor the refinement of an aligned pair upsamples by (:func:`upsampling_grid`).
+MIN_UPSAMPLING = 2
 
 
 @dataclass(frozen=True)
@@ -40,8 +43,10 @@ class AlignSettings:
         ``metres = inverse_scale / value`` (8-bit depth intensity, disparity).
         ``reproject`` needs one of the two; ``shift`` needs one only to
         estimate ``slope`` from the rig.
-    factor : int, optional
-        ``reproject``: the scale factor ``s`` (default: focal-length ratio).
+    factor : float, optional
+        ``reproject``: the rendered grid is the color grid / ``s`` (default:
+        :func:`~depthrefine.rig.reproject.default_factor`, the grid at the depth
+        camera's resolution).
     radial : bool
         ``reproject``: depth is the distance along the ray, not ``Z``.
     undistort_depth : bool
@@ -66,7 +71,7 @@ class AlignSettings:
     method: str = "reproject"
     depth_units: float | None = None
     inverse_scale: float | None = None
-    factor: int | None = None
+    factor: float | None = None
     radial: bool = False
     undistort_depth: bool = True
     undistort_color: bool = True
@@ -84,9 +89,9 @@ class AlignSettings:
                 check_number(name, getattr(self, name), positive=True)
         if self.slope is not None:
             check_number("slope", self.slope, nonnegative=True)
-        if self.factor is not None and (isinstance(self.factor, bool) or not isinstance(self.factor, int)
-                                        or self.factor < 1):
-            raise ValueError(f"factor must be an integer >= 1; got {self.factor!r}.")
+        if self.factor is not None and (isinstance(self.factor, bool) or not isinstance(self.factor, (int, float))
+                                        or not self.factor >= 1 or self.factor == float("inf")):
+            raise ValueError(f"factor must be a number >= 1 (the color grid / the rendered grid); got {self.factor!r}.")
         for name in ("radial", "undistort_depth", "undistort_color"):
             if not isinstance(getattr(self, name), bool):
                 raise TypeError(f"{name} must be true or false; got {getattr(self, name)!r}.")
@@ -240,16 +245,116 @@ def unmeasured_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarr
     return cv2.resize(invalid.astype(np.uint8), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT).astype(bool)
 
 
-def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray) -> np.ndarray:
+def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed: bool = False) -> np.ndarray:
     """``depth_hr`` (float32) with NaN wherever :func:`unmeasured_on_grid` says nothing was measured.
 
     A refinement fills every pixel; this takes back the depth it invented
-    where the sensor saw nothing (``depthrefine run`` does this unless
-    ``--fill-holes``).
+    where the sensor saw nothing (``depthrefine run`` does this). With
+    ``fill_enclosed`` (``run --fill-holes``), the holes that lie inside one
+    measured surface (:func:`depthrefine._fill.enclosed_holes` of
+    ``depth_lr``: a dropout on a dark or shiny spot, a thin sliver) keep the
+    refinement's depth, which carries that surface on; what lies beyond any
+    measurement (outside the view, a shadow beside a depth jump, a large
+    unmeasured region) stays unmeasured.
     """
     out = np.array(depth_hr, dtype=np.float32, copy=True)
-    out[unmeasured_on_grid(depth_lr, out.shape[:2])] = np.nan
+    lr = check_depth(depth_lr, "depth_lr").astype(np.float32)
+    with np.errstate(invalid="ignore"):
+        lr[~(lr > 0)] = np.nan
+    if fill_enclosed:
+        from .._fill import enclosed_holes
+
+        lr[enclosed_holes(lr)] = 1.0   # counts as measured: the refinement's depth stays there
+    out[unmeasured_on_grid(lr, out.shape[:2])] = np.nan
     return out
+
+
+def nearest_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """``depth_lr`` (float32) spread over a ``shape = (rows, cols)`` grid by nearest sampling (pixel areas aligned).
+
+    How the refinement places the aligned depth on the color grid, for
+    measures that need the two on one grid (:func:`depthrefine.rig.edges.edge_overlap`).
+
+    Examples
+    --------
+    >>> nearest_on_grid(np.array([[1.0, np.nan]]), (2, 4)).tolist()
+    [[1.0, 1.0, nan, nan], [1.0, 1.0, nan, nan]]
+    """
+    import cv2
+
+    d = check_depth(depth_lr, "depth_lr").astype(np.float32)
+    return cv2.resize(d, (int(shape[1]), int(shape[0])), interpolation=cv2.INTER_NEAREST_EXACT)
+
+
+def upsampling_grid(depth_shape: tuple[int, ...], color_shape: tuple[int, ...]) -> tuple[int, tuple[int, int]]:
+    """The integer factor ``s`` a refinement of an aligned pair upsamples by, and its working grid.
+
+    ``s = round(color / depth)`` (mean of rows and columns), at least
+    :data:`MIN_UPSAMPLING` when the depth grid is coarser than the color
+    image: with the Azure Kinect's ratio 1.21 the method still upsamples
+    (x2 onto a color image resized to twice the depth grid) instead of
+    rounding to 1, where it would have nothing to do; 1 when the depth is
+    on the color grid already (``--factor 1``). The working
+    grid is ``s`` times the depth grid; the color image is resized onto it
+    (bilinear) unless it is that grid already, and the result resized back
+    (nearest), as the refinement's own scale step does for a ratio such as 7.4.
+
+    Examples
+    --------
+    >>> upsampling_grid((594, 1056), (720, 1280))
+    (2, (1188, 2112))
+    >>> upsampling_grid((72, 96), (504, 672))
+    (7, (504, 672))
+    >>> upsampling_grid((720, 1280), (720, 1280))
+    (1, (720, 1280))
+    """
+    ratio = (color_shape[0] / depth_shape[0] + color_shape[1] / depth_shape[1]) / 2.0
+    s = max(MIN_UPSAMPLING, int(np.floor(ratio + 0.5))) if ratio > 1.0 + 1e-9 else 1
+    return s, (int(depth_shape[0]) * s, int(depth_shape[1]) * s)
+
+
+def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params=None,
+                progress=None, solve=None) -> tuple[np.ndarray, str]:
+    """Refine an aligned pair onto the color image's grid, the method upsampling by :func:`upsampling_grid`'s ``s``.
+
+    Parameters
+    ----------
+    depth_lr : (h, w) ndarray
+        Aligned depth (:func:`align_pair`), NaN = invalid.
+    rgb_hr : (H, W, 3) ndarray
+        The color image it was aligned to.
+    method, params, progress
+        As :func:`depthrefine.refine`.
+    solve : callable, optional
+        ``solve(depth, rgb) -> depth`` in place of ``refine(depth, rgb, method=method, ...)``
+        (a warm start over frames: ``depthrefine batch --temporal``).
+
+    Returns
+    -------
+    depth_hr : (H, W) float32 ndarray
+    note : str
+        What the scale step did, one line for the user.
+    """
+    import cv2
+
+    from ..methods.registry import refine
+    from ..methods.scale import plan_scale
+
+    if solve is None:
+        def solve(depth, rgb):
+            return refine(depth, rgb, method=method, params=params, progress=progress)
+
+    rows, cols = rgb_hr.shape[:2]
+    s, (work_rows, work_cols) = upsampling_grid(depth_lr.shape, rgb_hr.shape)
+    step = plan_scale(depth_lr.shape, rgb_hr.shape)
+    if step.factor == s:  # the refinement's own scale step does it (or there is nothing to upsample)
+        return solve(depth_lr, rgb_hr), step.describe()
+    rgb_work = cv2.resize(np.ascontiguousarray(rgb_hr), (work_cols, work_rows), interpolation=cv2.INTER_LINEAR)
+    depth_work = solve(depth_lr, rgb_work)
+    depth_hr = cv2.resize(depth_work, (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT)
+    ratio = (rows / depth_lr.shape[0] + cols / depth_lr.shape[1]) / 2.0
+    return depth_hr, (f"ratio {ratio:.3f}: the method upsampled x{s} onto a {work_cols}x{work_rows} grid (color "
+                      f"resized, bilinear) and the result was resized to {cols}x{rows} (nearest)")
 
 
 def _undistorts_color(rig: StereoRig, settings: AlignSettings) -> bool:
@@ -269,7 +374,7 @@ def _chain_reproject(depth_raw, rig, settings, notes) -> np.ndarray:
         factor=s, radial=settings.radial, depth_distorted=settings.undistort_depth, color_distorted=False,
     )
     w, h = grid.image_size
-    notes.append(f"depth reprojected into the color camera ({w}x{h} grid, s = {s}, z-buffer"
+    notes.append(f"depth reprojected into the color camera ({w}x{h} grid, s = {s:.4g}, z-buffer"
                  f"{', depth lens distortion undone' if settings.undistort_depth else ''})")
     return out
 

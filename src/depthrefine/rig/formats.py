@@ -26,6 +26,17 @@ ROS ``camera_info`` YAML
     message (``width``, ``height``, ``K``/``k``, ``D``/``d``,
     ``distortion_model``). ``plumb_bob`` and ``rational_polynomial`` map to
     OpenCV's model; ``equidistant`` (fisheye) has no equivalent here. One camera.
+RealSense (a ``camera_info`` of the SDK's rosbag recordings)
+    ``K`` and ``D`` as in ROS, with the SDK's lens model names: ``Brown Conrady``
+    holds OpenCV's ``(k1, k2, p1, p2, k3)`` in that order; ``None``, or any model
+    whose coefficients are all 0, is a lens without distortion. The
+    extrinsics of each stream (``.../tf/<ref>``) map the reference stream into
+    that stream: ``X_stream = R X_ref + t``, metres.
+ROS transforms (``/tf_static``)
+    Each ``geometry_msgs/TransformStamped`` gives the pose of ``child_frame_id`` in
+    ``header.frame_id``: ``X_parent = R X_child + t``, ``R`` from the unit
+    quaternion ``(x, y, z, w)``. :func:`rig_from_ros` chains them from the depth
+    camera's frame to the color camera's (the ``frame_id`` of each ``camera_info``).
 """
 
 from __future__ import annotations
@@ -46,6 +57,11 @@ __all__ = [
     "rig_from_k4a",
     "camera_from_opencv",
     "camera_from_ros",
+    "camera_from_realsense",
+    "rig_from_poses",
+    "rig_from_ros",
+    "rotation_from_quaternion",
+    "transform_between_frames",
 ]
 
 _K4A_DEPTH = "CALIBRATION_CameraPurposeDepth"
@@ -172,12 +188,29 @@ def rig_from_k4a(
                          f"the Azure Kinect SDK has no {color_resolution} mode for it.")
     depth_cam = k4a_camera(depth, depth_info, source=f"{source}: depth camera")
     color_cam = k4a_camera(color, color_info, source=f"{source}: color camera")
-    R_d, t_d = _rt(depth, source)
-    R_c, t_c = _rt(color, source)
-    # X_cam = R_cam X_ref + t_cam for both cameras: X_color = R_c R_d^T (X_depth - t_d) + t_c.
+    return rig_from_poses(depth_cam, color_cam, _rt(depth, source), _rt(color, source))
+
+
+def rig_from_poses(
+    depth_camera: CameraModel, color_camera: CameraModel, depth_pose: tuple, color_pose: tuple
+) -> StereoRig:
+    """The rig of two cameras whose poses map one reference frame into each camera.
+
+    ``depth_pose = (R_d, t_d)`` with ``X_depth = R_d X_ref + t_d``, the same for
+    ``color_pose``; the rig's ``R, t`` then map the depth camera into the color camera.
+
+    Examples
+    --------
+    >>> cam = CameraModel(np.diag([100., 100., 1.]), np.zeros(5), (64, 48))
+    >>> rig = rig_from_poses(cam, cam, (np.eye(3), np.zeros(3)), (np.eye(3), np.array([-0.05, 0, 0])))
+    >>> rig.t.tolist()
+    [-0.05, 0.0, 0.0]
+    """
+    R_d, t_d = (np.asarray(v, dtype=np.float64) for v in depth_pose)
+    R_c, t_c = (np.asarray(v, dtype=np.float64) for v in color_pose)
+    # X_color = R_c R_d^T (X_depth - t_d) + t_c.
     R = R_c @ R_d.T
-    t = t_c - R @ t_d
-    return StereoRig(depth_cam, color_cam, R, t)
+    return StereoRig(depth_camera, color_camera, R, t_c.ravel() - R @ t_d.ravel())
 
 
 def _numbers(value: Any, name: str, source: str) -> np.ndarray:
@@ -242,3 +275,113 @@ def camera_from_ros(mapping: Mapping[str, Any], *, source: str = "camera_info") 
         return CameraModel(K.reshape(3, 3), dist, (int(width), int(height)))
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{source}: {exc}") from None
+
+
+#: RealSense lens models (``rs2_distortion`` names) that OpenCV's model holds as they are.
+_RS_OPENCV_MODELS = ("Brown Conrady", "None")
+
+
+def camera_from_realsense(mapping: Mapping[str, Any], *, source: str = "camera_info") -> CameraModel:
+    """One stream of a RealSense recording (``width``, ``height``, ``K``, ``D``, ``distortion_model``).
+
+    Examples
+    --------
+    >>> info = {"width": 640, "height": 480, "distortion_model": "Inverse Brown Conrady", "D": [0.0] * 5,
+    ...         "K": [600, 0, 319.5, 0, 600, 239.5, 0, 0, 1]}
+    >>> camera_from_realsense(info).has_distortion
+    False
+    """
+    model = str(mapping.get("distortion_model", "None"))
+    dist = _numbers(mapping.get("D", mapping.get("d", [])), "D", source)
+    if model not in _RS_OPENCV_MODELS and np.any(dist != 0):
+        raise ValueError(f"{source}: RealSense lens model {model!r} with coefficients {dist.tolist()} is not "
+                         f"OpenCV's model (depthrefine reads {' and '.join(map(repr, _RS_OPENCV_MODELS))}); "
+                         "calibrate the cameras with `depthrefine calibrate-stereo` and pass --rig.")
+    if model == "None" or not np.any(dist != 0):
+        dist = np.zeros(5)
+    return camera_from_ros({**mapping, "distortion_model": "plumb_bob", "D": dist[:5] if dist.size > 5 else dist},
+                           source=source)
+
+
+def rotation_from_quaternion(quaternion: Any) -> np.ndarray:
+    """The 3x3 rotation of a quaternion ``(x, y, z, w)`` (normalised first; ROS order).
+
+    Examples
+    --------
+    >>> rotation_from_quaternion([0, 0, np.sin(np.pi / 4), np.cos(np.pi / 4)]).round(6).tolist()
+    [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    q = np.asarray(quaternion, dtype=np.float64).ravel()
+    norm = np.linalg.norm(q) if q.size == 4 else 0.0
+    if not (np.isfinite(norm) and norm > 0):
+        raise ValueError(f"a rotation quaternion needs 4 finite numbers (x, y, z, w), not all 0; got {q.tolist()}.")
+    x, y, z, w = q / norm
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def transform_between_frames(transforms: list[tuple[str, str, np.ndarray, np.ndarray]], source: str, target: str
+                             ) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(R, t)`` with ``X_target = R X_source + t``, chained through a tree of transforms; None if unlinked.
+
+    ``transforms`` holds ``(parent, child, R, t)`` with ``X_parent = R X_child + t``
+    (a ROS ``TransformStamped``); each may be walked either way.
+
+    Examples
+    --------
+    >>> tree = [("base", "depth", np.eye(3), np.array([0.0, 0, 0])), ("base", "color", np.eye(3), np.array([0.05, 0, 0]))]
+    >>> transform_between_frames(tree, "depth", "color")[1].tolist()
+    [-0.05, 0.0, 0.0]
+    """
+    # Poses of every reachable frame in the source frame: X_source = R X_frame + t.
+    poses: dict[str, tuple[np.ndarray, np.ndarray]] = {source: (np.eye(3), np.zeros(3))}
+    frontier = [source]
+    while frontier and target not in poses:
+        frame = frontier.pop(0)
+        R_f, t_f = poses[frame]
+        for parent, child, R, t in transforms:
+            if parent == frame and child not in poses:      # X_frame = R X_child + t
+                poses[child] = (R_f @ R, R_f @ t + t_f)
+                frontier.append(child)
+            elif child == frame and parent not in poses:    # X_parent = R X_frame + t
+                poses[parent] = (R_f @ R.T, t_f - R_f @ R.T @ t)
+                frontier.append(parent)
+    if target not in poses:
+        return None
+    R_st, t_st = poses[target]                              # X_source = R_st X_target + t_st
+    return R_st.T, -R_st.T @ t_st
+
+
+def rig_from_ros(
+    depth_info: Mapping[str, Any],
+    color_info: Mapping[str, Any],
+    transforms: list[tuple[str, str, np.ndarray, np.ndarray]],
+    *,
+    source: str = "ROS bag",
+    realsense: bool = False,
+) -> StereoRig:
+    """The rig of a depth and a color ``camera_info`` (with their ``frame_id``) and a tree of transforms.
+
+    Cameras in the same frame (or with empty frame ids) get ``R = I, t = 0``.
+
+    Raises
+    ------
+    ValueError
+        A camera_info that does not convert (see :func:`camera_from_ros`), or
+        frames that no chain of ``transforms`` links.
+    """
+    convert = camera_from_realsense if realsense else camera_from_ros
+    depth = convert(depth_info, source=f"{source}: depth camera_info")
+    color = convert(color_info, source=f"{source}: color camera_info")
+    frames = (str(depth_info.get("frame_id", "")), str(color_info.get("frame_id", "")))
+    if frames[0] == frames[1]:
+        return StereoRig(depth, color, np.eye(3), np.zeros(3))
+    link = transform_between_frames(transforms, *frames)
+    if link is None:
+        known = sorted({name for parent, child, _, _ in transforms for name in (parent, child)})
+        raise ValueError(f"{source}: no chain of /tf_static transforms links the depth frame {frames[0]!r} to the "
+                         f"color frame {frames[1]!r} (frames: {', '.join(known) or 'none'}).")
+    return StereoRig(depth, color, *link)

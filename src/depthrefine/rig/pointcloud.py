@@ -30,37 +30,22 @@ import math
 import numpy as np
 
 from .._lazy import cv2
-from .._validate import as_depth
+from ._geometry import depth_conversion, metres64
 from .camera import CameraModel
 
 __all__ = [
+    "PLAUSIBLE_DEPTH_M",
+    "median_metres",
     "depth_to_metres",
     "metres_to_depth",
     "pixel_rays",
     "backproject",
     "project_points",
     "depth_to_points",
+    "color_grid_points",
 ]
 
 _UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 50, 1e-10)
-
-
-def _conversion(depth_units: float | None, inverse_scale: float | None) -> tuple[str, float]:
-    """Check that exactly one conversion is given; return ``(kind, value)``."""
-    if depth_units is None and inverse_scale is None:
-        raise ValueError(
-            "the depth's units are unknown: give depth_units (metres per unit, e.g. 0.001 for uint16 "
-            "millimetres) or, for 8-bit depth intensity / disparity (larger = nearer), inverse_scale "
-            "with metres = inverse_scale / value. 8-bit depth intensity cannot be placed in 3-D without it."
-        )
-    if depth_units is not None and inverse_scale is not None:
-        raise ValueError("give either depth_units or inverse_scale, not both.")
-    name, value = ("depth_units", depth_units) if depth_units is not None else ("inverse_scale", inverse_scale)
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
-        raise TypeError(f"{name} must be a number; got {value!r}.")
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be > 0; got {value}.")
-    return ("distance" if name == "depth_units" else "inverse"), float(value)
 
 
 def depth_to_metres(
@@ -87,15 +72,29 @@ def depth_to_metres(
     >>> depth_to_metres(np.array([[255, 51]], np.uint8), inverse_scale=204.0).tolist()
     [[0.800000011920929, 4.0]]
     """
-    return _metres64(depth, depth_units, inverse_scale).astype(np.float32)
+    return metres64(depth, depth_units, inverse_scale).astype(np.float32)
 
 
-def _metres64(depth: np.ndarray, depth_units: float | None, inverse_scale: float | None) -> np.ndarray:
-    """:func:`depth_to_metres` in float64 (for geometry that must not lose precision)."""
-    kind, value = _conversion(depth_units, inverse_scale)
-    d = as_depth(depth, "depth").astype(np.float64)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return d * value if kind == "distance" else value / d
+#: Median depths (metres) a ToF camera can report: outside, the depth units are likely wrong
+#: (millimetres read as metres give kilometres; metres read as millimetres, millimetres).
+PLAUSIBLE_DEPTH_M = (0.05, 50.0)
+
+
+def median_metres(depth: np.ndarray, *, depth_units: float | None = None,
+                  inverse_scale: float | None = None) -> float:
+    """The median of the valid depths in metres (NaN when no pixel is valid): a check of the units.
+
+    Compare it with :data:`PLAUSIBLE_DEPTH_M`.
+
+    Examples
+    --------
+    >>> d = np.array([[0, 900, 1500, 2000]], np.uint16)
+    >>> median_metres(d, depth_units=0.001), median_metres(d, depth_units=1.0)
+    (1.5, 1500.0)
+    """
+    metres = metres64(depth, depth_units, inverse_scale)
+    valid = metres[np.isfinite(metres) & (metres > 0)]
+    return float(np.median(valid)) if valid.size else math.nan
 
 
 def metres_to_depth(
@@ -108,7 +107,7 @@ def metres_to_depth(
     >>> metres_to_depth(np.array([1.5, np.nan]), depth_units=0.001).tolist()
     [1500.0, nan]
     """
-    kind, value = _conversion(depth_units, inverse_scale)
+    kind, value = depth_conversion(depth_units, inverse_scale)
     z = np.asarray(z, dtype=np.float64)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = z / value if kind == "distance" else value / z
@@ -274,6 +273,64 @@ def depth_to_points(
         colors = np.ascontiguousarray(colors[rows[keep], cols[keep]])
     return points, colors
 
+
+
+def color_grid_points(
+    depth: np.ndarray,
+    rgb: np.ndarray,
+    camera: CameraModel,
+    *,
+    depth_units: float | None = None,
+    inverse_scale: float | None = None,
+    raw_grid: bool = False,
+    color_undistorted: bool = False,
+    stride: int = 1,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The colored point cloud of a depth map on a color camera's grid (``depthrefine export-ply``).
+
+    Parameters
+    ----------
+    depth : (rows, cols) ndarray
+        Depth on the color camera's grid, any units (e.g. the output of ``run``).
+    rgb : (rows, cols, 3) ndarray
+        The color image: raw, unless ``color_undistorted``.
+    camera : CameraModel
+        The color camera.
+    depth_units, inverse_scale : float
+        Exactly one (see the module docstring).
+    raw_grid : bool
+        ``depth`` and ``rgb`` lie on the raw (distorted) grid: back-project
+        through the lens distortion. Default: ``depth`` lies on the
+        undistorted grid, as ``align`` and ``run`` write it, and ``rgb`` is
+        undistorted to match (for a camera with distortion).
+    color_undistorted : bool
+        ``rgb`` is undistorted already (with the default ``raw_grid=False``).
+    stride : int
+        Keep every ``stride``-th row and column.
+
+    Returns
+    -------
+    points : (N, 3) float32 ndarray
+        Metres in the color camera's frame: X right, Y down, Z forward.
+    colors : (N, 3) uint8 ndarray
+
+    Examples
+    --------
+    >>> cam = CameraModel(np.array([[10., 0, 1.5], [0, 10., 1.5], [0, 0, 1]]), np.zeros(5), (4, 4))
+    >>> pts, colors = color_grid_points(np.full((4, 4), 2000, np.uint16), np.zeros((4, 4, 3), np.uint8), cam,
+    ...                                 depth_units=0.001)
+    >>> pts.shape, colors.shape
+    ((16, 3), (16, 3))
+    """
+    distorted = camera.has_distortion and raw_grid
+    if camera.has_distortion and not raw_grid:
+        if not color_undistorted:
+            from .undistort import undistort_image
+
+            rgb = undistort_image(rgb, camera)
+        camera = camera.without_distortion()
+    return depth_to_points(depth, camera, rgb=rgb, depth_units=depth_units, inverse_scale=inverse_scale,
+                           distorted=distorted, stride=stride)
 
 def _to_uint8(rgb: np.ndarray) -> np.ndarray:
     if rgb.dtype == np.uint8:

@@ -5,8 +5,13 @@ with the depth camera's intrinsics (undoing its lens distortion), move it with
 ``R, t``, project it into the color camera and keep the nearest point per
 pixel (z-buffer), like ``cv2.registerDepth``. It renders into a color-camera
 grid of ``(round(H / s), round(W / s))`` pixels whose intrinsics are the color
-camera's scaled to that grid, ``s`` defaulting to the focal-length ratio
-(about one depth sample per grid pixel). Each depth pixel writes every grid
+camera's scaled to that grid: a grid at the depth camera's own resolution
+(about one depth sample per grid pixel), which the refinement then
+upsamples. ``s`` defaults to the focal-length ratio rounded to an integer
+when that is at least 2 (the grid then divides the color image), else to
+the ratio itself (the Azure Kinect's 1.21: a 1056x594 grid for the 1280x720
+color image, where an integer would throw samples away or leave nothing
+to upsample). Each depth pixel writes every grid
 pixel its footprint covers (its angular size through the lens, times the
 depth ratio), so a surface seen slightly magnified has no gaps for the
 background to show through (``cv2.registerDepth`` writes one pixel per sample
@@ -23,29 +28,32 @@ import numpy as np
 
 from .._fill import fill_invalid_nearest
 from .._validate import as_depth
+from ._geometry import depth_conversion, metres64, zbuffer
 from .camera import CameraModel, StereoRig, check_camera_shape
-from .pointcloud import _conversion, _metres64, metres_to_depth, pixel_rays, project_points
-from .shift import _zbuffer
+from .pointcloud import metres_to_depth, pixel_rays, project_points
 
-__all__ = ["reproject_camera", "align_reproject"]
-
+__all__ = ["reproject_camera", "default_factor", "align_reproject"]
 
 
-def reproject_camera(rig: StereoRig, *, factor: int | None = None, distorted: bool = False) -> tuple[int, CameraModel]:
+
+def reproject_camera(rig: StereoRig, *, factor: float | None = None,
+                     distorted: bool = False) -> tuple[float, CameraModel]:
     """The factor ``s`` and the low-resolution color-camera grid :func:`align_reproject` renders into.
 
     Parameters
     ----------
     rig : StereoRig
-    factor : int, optional
-        ``s``; default ``round(f_color / f_depth)`` (mean of x and y), at least
-        1: one depth sample per grid pixel.
+    factor : float, optional
+        ``s`` (any number >= 1; an integer divides the color image evenly).
+        Default: the focal-length ratio ``f_color / f_depth`` (mean of x and
+        y), rounded to an integer when that is at least 2, else the ratio
+        itself (at least 1): a grid at the depth camera's resolution.
     distorted : bool
         Keep the color camera's distortion (grid of a raw color image).
 
     Returns
     -------
-    s : int
+    s : int or float
     camera : CameraModel
         The color camera resized to ``(round(H / s), round(W / s))``.
 
@@ -56,17 +64,37 @@ def reproject_camera(rig: StereoRig, *, factor: int | None = None, distorted: bo
     >>> s, grid = reproject_camera(StereoRig(d, c, np.eye(3), np.zeros(3)))
     >>> s, grid.image_size, grid.K[0].tolist()
     (7, (88, 72), [100.0, 0.0, 43.5])
+    >>> c12 = CameraModel(np.array([[120., 0, 52.3], [0, 120., 42.5], [0, 0, 1]]), np.zeros(5), (106, 86))
+    >>> s, grid = reproject_camera(StereoRig(d, c12, np.eye(3), np.zeros(3)))
+    >>> s, grid.image_size
+    (1.2, (88, 72))
     """
     color = rig.color_camera
     if factor is None:
-        ratio = np.mean(np.array(color.focal) / np.array(rig.depth_camera.focal))
-        factor = max(1, int(np.floor(ratio + 0.5)))
-    elif isinstance(factor, bool) or not isinstance(factor, (int, np.integer)) or factor < 1:
-        raise ValueError(f"factor must be an integer >= 1; got {factor!r}.")
+        factor = default_factor(rig)
+    elif (isinstance(factor, bool) or not isinstance(factor, (int, float, np.integer, np.floating))
+          or not np.isfinite(factor) or factor < 1):
+        raise ValueError(f"factor must be a number >= 1 (the color grid / the rendered grid); got {factor!r}.")
     rows, cols = color.shape
     grid = (max(1, int(np.floor(rows / factor + 0.5))), max(1, int(np.floor(cols / factor + 0.5))))
     camera = color.resized(grid)
-    return int(factor), (camera if distorted else camera.without_distortion())
+    factor = int(factor) if float(factor).is_integer() else float(factor)
+    return factor, (camera if distorted else camera.without_distortion())
+
+
+def default_factor(rig: StereoRig) -> float:
+    """The default ``s`` of :func:`reproject_camera`: ``round(f_color / f_depth)`` if at least 2, else the ratio (>= 1).
+
+    Examples
+    --------
+    >>> d = CameraModel(np.array([[100., 0, 43.5], [0, 100., 35.5], [0, 0, 1]]), np.zeros(5), (88, 72))
+    >>> c = CameraModel(np.array([[740., 0, 307.5], [0, 740., 251.5], [0, 0, 1]]), np.zeros(5), (616, 504))
+    >>> default_factor(StereoRig(d, c, np.eye(3), np.zeros(3)))
+    7
+    """
+    ratio = float(np.mean(np.array(rig.color_camera.focal) / np.array(rig.depth_camera.focal)))
+    rounded = int(np.floor(ratio + 0.5))
+    return rounded if rounded >= 2 else max(1.0, ratio)
 
 
 def align_reproject(
@@ -75,7 +103,7 @@ def align_reproject(
     *,
     depth_units: float | None = None,
     inverse_scale: float | None = None,
-    factor: int | None = None,
+    factor: float | None = None,
     radial: bool = False,
     depth_distorted: bool = True,
     color_distorted: bool = False,
@@ -94,7 +122,7 @@ def align_reproject(
         ``metres = inverse_scale / value`` for 8-bit depth intensity /
         disparity (see :mod:`depthrefine.rig.pointcloud`). Without it the depth
         cannot be placed in 3-D: ``ValueError``.
-    factor : int, optional
+    factor : float, optional
         ``s`` (see :func:`reproject_camera`).
     radial : bool
         The depth is the distance along each pixel's ray, not ``Z``.
@@ -130,13 +158,13 @@ def align_reproject(
     """
     if not isinstance(rig, StereoRig):
         raise TypeError(f"rig must be a StereoRig; got {type(rig).__name__}.")
-    _conversion(depth_units, inverse_scale)
+    depth_conversion(depth_units, inverse_scale)
     d = as_depth(depth, "depth")
     check_camera_shape(d.shape, rig.depth_camera, "depth")
     _, grid = reproject_camera(rig, factor=factor, distorted=color_distorted)
     rows_t, cols_t = grid.shape
 
-    z = _metres64(d, depth_units, inverse_scale)
+    z = metres64(d, depth_units, inverse_scale)
     valid = np.isfinite(z).ravel()
     z = fill_invalid_nearest(z)  # invalid pixels travel with their nearest valid neighbour
     rays = pixel_rays(rig.depth_camera, distorted=depth_distorted).reshape(-1, 2)
@@ -166,7 +194,7 @@ def align_reproject(
     source = np.concatenate(sources)
     target = np.concatenate(targets)
     priority = np.where(valid[source], -z_color[source], -np.inf)  # nearest wins; invalid loses
-    target, source = _zbuffer(target, priority, source)
+    target, source = zbuffer(target, priority, source)
 
     out = np.full(rows_t * cols_t, np.nan)
     landed = np.zeros(rows_t * cols_t, dtype=bool)

@@ -42,8 +42,8 @@ import numpy as np
 from .._fill import fill_invalid_nearest
 from .._validate import as_depth, check_choice, check_number
 from ._names import COLOR_SIDES, ENCODINGS
+from ._geometry import depth_conversion, zbuffer
 from .camera import StereoRig
-from .pointcloud import _conversion
 
 __all__ = [
     "COLOR_SIDES",
@@ -177,7 +177,7 @@ def align_shift(
     target = (rows * w + target_cols)[inside]
     source = np.flatnonzero(inside)
     priority = np.where(valid, q_move, -np.inf).ravel()[source]  # nearer wins; invalid loses
-    target, source = _zbuffer(target, priority, source)
+    target, source = zbuffer(target, priority, source)
 
     out = np.full(h * w, np.nan, dtype=np.float32)
     landed = np.zeros(h * w, dtype=bool)
@@ -186,15 +186,6 @@ def align_shift(
     out = out.reshape(h, w)
     _fill_holes_along_rows(out, ~landed.reshape(h, w), from_right=(color_side == "right"))
     return out
-
-
-def _zbuffer(target: np.ndarray, priority: np.ndarray, source: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For each distinct target, the source with the highest priority (ties: the lowest source index)."""
-    order = np.lexsort((source, -priority, target))
-    target_sorted = target[order]
-    first = np.ones(target_sorted.size, dtype=bool)
-    first[1:] = target_sorted[1:] != target_sorted[:-1]
-    return target_sorted[first], source[order][first]
 
 
 def _fill_holes_along_rows(depth: np.ndarray, holes: np.ndarray, *, from_right: bool) -> None:
@@ -263,7 +254,7 @@ def shift_from_rig(
     >>> shift_from_rig(rig, depth_units=0.001)
     ShiftModel(slope=10000.0, color_side='right', encoding='distance')
     """
-    kind, value = _conversion(depth_units, inverse_scale)
+    kind, value = depth_conversion(depth_units, inverse_scale)
     centre = rig.color_centre
     baseline = float(abs(centre[0]))
     if rig.rotation_degrees > MAX_PARALLEL_ROTATION or abs(centre[1]) > 0.25 * baseline \

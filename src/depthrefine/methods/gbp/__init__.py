@@ -1,7 +1,7 @@
 """Guided back-projection (``gbp``): the default method.
 
 It upsamples a low-resolution depth map ``y`` (``h x w``) to the grid of a
-registered color image (``H x W``, any factor) in five steps, one module each:
+registered color image (``H x W``, any factor) in five steps (a sixth on request), one module each:
 
 1. ``measure``  measure the input once: its noise (in 8-bit levels of its own
    depth range, so one set of defaults serves levels and millimetres),
@@ -16,7 +16,10 @@ registered color image (``H x W``, any factor) in five steps, one module each:
    stronger color-guided smoother (noise averaged over color segments);
 5. ``trust``    check the guide against the input one octave down and fall back
    to clipped bicubic interpolation where its detail is not confirmed, so a
-   guide whose texture is not depth does no harm.
+   guide whose texture is not depth does no harm;
+6. ``edges``    (``snap_edges``, off by default) move each large depth jump, within
+   two depth pixels, onto the strongest color edge between its surfaces: for
+   real sensors whose edges sit off the color edges.
 
 ``confidence`` makes its confidence map from these internals
 (:func:`upsample_gbp_with_confidence`). ``upsample`` runs the steps in this order (:func:`upsample_gbp`) and holds the

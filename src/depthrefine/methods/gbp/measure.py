@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._fill import fill_invalid_nearest
+from ..._fill import enclosed_holes, fill_invalid_nearest, fill_smooth
 from ..._validate import as_depth
 
 __all__ = ["InputMeasures", "measure_input", "estimate_noise", "estimate_guide_noise", "footprint_share",
@@ -68,7 +68,7 @@ class InputMeasures:
         The input, NaN where there is no measurement.
     valid : (h, w) bool ndarray
     filled : (h, w) float32 ndarray
-        ``depth`` with every hole filled from the nearest valid pixel.
+        ``depth`` with every hole filled (:func:`fill_holes`).
     low, high : float
         The valid range.
     span : float
@@ -112,7 +112,7 @@ def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: bool = True
         block mean by construction).
     """
     valid = np.isfinite(depth)
-    filled = fill_invalid_nearest(depth)
+    filled = fill_holes(depth, valid)
     span = _span(filled, valid)
     sigma = estimate_noise(filled, valid)
     return InputMeasures(
@@ -120,6 +120,20 @@ def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: bool = True
         sigma=sigma, sigma_levels=255.0 * sigma / span,
         footprint=_footprint_share(depth, filled, valid, sigma, span) if sampling else 1.0,
         jump=near_jump(filled, sigma, span), guide_noise=estimate_guide_noise(guide))
+
+
+def fill_holes(depth: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """``depth`` with every hole filled: smoothly from the rim where one surface encloses it, else from the nearest pixel.
+
+    A hole inside one measured surface (:func:`depthrefine._fill.enclosed_holes`:
+    an ink drawing on a mug, a dropout on a dark spot) is spanned by the
+    smoothest surface through its rim, so the surface goes on; any other
+    hole (beyond the sensor's view, a shadow beside a depth jump) takes the
+    nearest valid depth, which never invents a value between two surfaces.
+    """
+    if valid.all():
+        return depth.copy()
+    return fill_invalid_nearest(fill_smooth(depth, enclosed_holes(depth)))
 
 
 def estimate_noise(depth: np.ndarray, valid: np.ndarray) -> float:

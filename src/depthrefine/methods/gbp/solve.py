@@ -57,12 +57,14 @@ class Solver:
     """The guide as the solves see it: color weights of the detail and flat-area solves on one grid.
 
     ``scale`` is the mean enlargement factor from the input's grid to the
-    guide's; ``sigma_color`` and ``flat_sigma_color`` the sensitivities
-    used (each at least ``floor_factor`` times the guide's noise).
+    guide's; ``guide`` the guide after its bilateral filter; ``color_x``,
+    ``color_y`` (``flat_x``, ``flat_y``) the edge weights of the detail
+    (flat-area) solve.
     """
 
     shape: tuple[int, int]
     scale: float
+    guide: np.ndarray
     color_x: np.ndarray
     color_y: np.ndarray
     flat_x: np.ndarray
@@ -91,7 +93,7 @@ def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor:
     flat_x, flat_y = color_x, color_y
     if FLAT_SIGMA_COLOR != p.sigma_color:
         flat_x, flat_y = _wls.color_weights(guide, max(FLAT_SIGMA_COLOR, floor))
-    return Solver((H, W), 0.5 * (H / h + W / w), color_x, color_y, flat_x, flat_y)
+    return Solver((H, W), 0.5 * (H / h + W / w), guide, color_x, color_y, flat_x, flat_y)
 
 
 def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.ndarray:
@@ -113,9 +115,9 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray)
 
     kernel = np.ones((3, 3), np.uint8)
     up = resize(depth, shape, cv2.INTER_CUBIC)
-    low = resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST)
-    high = resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST)
-    clipped = np.clip(up, low, high)
+    # np.clip(up, low, high), one full-size bound at a time (the call's peak memory)
+    clipped = cv2.max(up, resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST))
+    cv2.min(clipped, resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST), dst=clipped)
     # up <- up + jump * (clipped - up), in place
     clipped -= up
     clipped *= resize(jump, shape, cv2.INTER_LINEAR)

@@ -10,7 +10,9 @@ import numpy as np
 from ..._validate import as_depth, check_rgb, guide_uint8
 from .measure import InputMeasures, measure_input
 from .params import GbpParams
-from .solve import GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, resize
+from . import solve
+from .solve import back_project, clip_to_bounds, flat_blend, local_bounds, make_solver
+from .edges import snap_edges
 from .trust import blend_fallback, measured_trust
 
 __all__ = ["upsample_gbp", "upsample_gbp_stateful"]
@@ -27,7 +29,8 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     3. back-project: ``iterations`` rounds of residual correction and edge-aware smoothing;
     4. blend in a stronger color-guided smoother where the input shows no depth edge;
     5. check the guide against the input one octave down and fall back to
-       clipped bicubic interpolation where its detail is not confirmed.
+       clipped bicubic interpolation where its detail is not confirmed;
+    6. with ``snap_edges``, move each large depth jump onto the color edge.
 
     Parameters
     ----------
@@ -65,24 +68,32 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
 
     ``keep``, when given, receives what the confidence map needs
     (:mod:`.confidence`): ``guided``, the result before step 5's fallback,
-    and ``trust``, the guide's trust per input pixel (None without step 5).
+    and ``trust``, the guide's trust per input pixel (None without step 5);
+    step 6 (``snap_edges``) comes after, so with it ``|result - guided|``
+    also counts the moves of the snapped edges.
     """
     p = GbpParams() if params is None else params
     if not isinstance(p, GbpParams):
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
     measures = measure_input(depth, guide)                                     # 1
-    solver = make_solver(guide, measures, p, GUIDE_NOISE)
+    solver = make_solver(guide, measures, p, solve.GUIDE_NOISE)
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
     result = flat_blend(result, measures, solver, p)                           # 4
+    # the solves' weights are done with: free them before step 5 makes its own (the call's peak memory)
+    smoothed_guide, scale = solver.guide, solver.scale
+    del solver
     if keep is not None:
         keep.update(guided=result, trust=None)
     if p.trust:                                                                # 5
         clip_to_bounds(result, bounds)
+        del bounds
         trust = measured_trust(measures, guide, p)
         if keep is not None:
             keep.update(guided=result.copy(), trust=trust)
         result = blend_fallback(result, trust, measures)
+    if p.snap_edges:                                                           # 6
+        result = snap_edges(result, measures, smoothed_guide, scale)
     if progress is not None:
         progress(p.iterations + 1, p.iterations + 1)
     return result.astype(np.float32, copy=False), measures
@@ -142,7 +153,7 @@ def upsample_gbp_stateful(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: G
     if state is not None and state.get("shape") == shape:
         tolerance = WARM_SIGMAS * m.sigma if m.sigma > 0 else 1e-6 * m.span
         steady = valid3 & state["valid3"] & (np.abs(mean3 - state["mean3"]) <= tolerance)
-        changed = resize((~steady).astype(np.uint8), result.shape, cv2.INTER_NEAREST) > 0
+        changed = solve.resize((~steady).astype(np.uint8), result.shape, cv2.INTER_NEAREST) > 0
         # the guide moved (an edge the result follows) although the input did not: start afresh there too,
         # as far as the solve's reach (one input pixel)
         guide_tolerance = WARM_SIGMAS * m.guide_noise / 3.0 * math.sqrt(2.0) + 1.0

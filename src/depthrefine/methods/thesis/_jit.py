@@ -16,7 +16,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..._numba import njit as _jit
+from ..._numba import njit as _jit, note_first_compile
+
+#: Seconds the thesis method's first run spends compiling its kernels with an empty numba cache
+#: (2-core machine, ``python benchmarks/first_call.py``); said in the first-compile note.
+FIRST_COMPILE_SECONDS = 13
 
 
 # ----------------------------------------------------------------------------
@@ -152,8 +156,45 @@ def lloyd(x, w, means, iterations):
 
 
 # ----------------------------------------------------------------------------
-# Interpolation (refine._interpolate_clusters)
+# Interpolation (interpolate._interpolate_clusters)
 # ----------------------------------------------------------------------------
+
+
+#: The eight neighbours in the order the nearest sample is looked for: the four at distance 1, then the four
+#: at sqrt(2); among equals, the smaller column offset, then the smaller row offset, the sample that SciPy's exact
+#: Euclidean feature transform picks (tests/test_thesis_kernels.py checks both agree).
+_NEIGHBOURS = np.array([(0, -1), (-1, 0), (1, 0), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1)], np.int64)
+
+
+@_jit
+def grow_samples(masks, corrected, values, grown):
+    """Each cluster's samples grown by one pixel (3x3), new pixels taking the value of their nearest sample.
+
+    ``masks[c]`` marks the samples of cluster ``c``; ``grown[c]`` becomes the
+    3x3 dilation of ``masks[c]`` and ``values[c]`` the value of
+    ``corrected`` at the nearest sample of ``c`` (the pixel itself for a
+    sample; 0 off ``grown[c]``). A new pixel's nearest sample is one of its
+    eight neighbours, looked for in :data:`_NEIGHBOURS`' order: the result of
+    ``scipy.ndimage.binary_dilation`` and of ``distance_transform_edt``'s
+    nearest-feature indices, one cluster at a time, for expansion 1.
+    """
+    k, rows, cols = masks.shape
+    for c in range(k):
+        mask = masks[c]
+        for i in range(rows):
+            for j in range(cols):
+                if mask[i, j]:
+                    grown[c, i, j] = True
+                    values[c, i, j] = corrected[i, j]
+                    continue
+                grown[c, i, j] = False
+                values[c, i, j] = 0.0
+                for n in range(8):
+                    y, x = i + _NEIGHBOURS[n, 0], j + _NEIGHBOURS[n, 1]
+                    if 0 <= y < rows and 0 <= x < cols and mask[y, x]:
+                        grown[c, i, j] = True
+                        values[c, i, j] = corrected[y, x]
+                        break
 
 
 @_jit
@@ -357,3 +398,8 @@ def median_rows(image, out, table, n_slots, out0, out1, size, y0, y1, chunk):
             oflat[y, c0:c0 + m] = buf[out0][:m]
             if y + 1 < rows:
                 oflat[y + 1, c0:c0 + m] = buf[out1][:m]
+
+
+# With a cold numba cache the thesis method's first run compiles these kernels (and the median
+# kernels): say so, once, before it starts.
+note_first_compile(__name__, what="the thesis method's kernels", seconds=FIRST_COMPILE_SECONDS)

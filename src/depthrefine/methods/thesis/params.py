@@ -1,21 +1,25 @@
 """Parameters of the thesis refinement, with the thesis values as defaults.
 
 Every number the thesis gives (chapter 4) or the algorithm spec decides
-(the design note ``docs/algorithm.md``, steps 4-8) is a field of :class:`RefineParams`, so a
+(the design note ``docs/algorithm.md``, steps 4-8) is a field of :class:`ThesisParams`, so a
 run is fully described by one frozen, hashable value that can be written next
-to its output and read back (:meth:`RefineParams.to_dict`,
-:meth:`RefineParams.from_dict`).
+to its output and read back (:meth:`ThesisParams.to_dict`,
+:meth:`ThesisParams.from_dict`).
+
+``RefineParams`` is the old name of :class:`ThesisParams`: it still works for
+one release, with a ``DeprecationWarning``.
 """
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from ..._lazy import lazy_exports
 from ..._validate import check_int, check_number, is_int
+from ..params import params_from_mapping, params_to_dict
 
-__all__ = ["RefineParams", "Rect", "params_from_mapping"]
+__all__ = ["ThesisParams", "Rect", "params_from_mapping"]
 
 #: A manual patch: ``(x, y, width, height)`` in color-image pixels
 #: (x = column of the top-left corner, y = its row), OpenCV's ``Rect`` order.
@@ -23,7 +27,7 @@ Rect = tuple[int, int, int, int]
 
 
 @dataclass(frozen=True)
-class RefineParams:
+class ThesisParams:
     """Parameters of the thesis depth refinement (spec steps 4-8).
 
     Defaults are the thesis values; the section of the thesis each comes from
@@ -143,39 +147,13 @@ class RefineParams:
                 raise ValueError(f"level_size must be > 0 depth units (or unset); got {self.level_size}.")
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain JSON/TOML-ready dict (tuples become lists, ``None`` kept)."""
-        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        """Plain JSON/TOML-ready dict (tuples become lists, ``None`` kept): :func:`~depthrefine.methods.params.params_to_dict`."""
+        return params_to_dict(self)
 
     @classmethod
-    def from_dict(cls, mapping: Mapping[str, Any], *, source: str = "parameters") -> "RefineParams":
+    def from_dict(cls, mapping: Mapping[str, Any], *, source: str = "parameters") -> "ThesisParams":
         """Build from a mapping, rejecting unknown keys with the list of known ones."""
         return params_from_mapping(cls, mapping, source=source)
-
-
-def params_from_mapping(cls: type, mapping: Mapping[str, Any], *, source: str = "parameters"):
-    """Instantiate the dataclass ``cls`` from ``mapping``; unknown keys are an error.
-
-    ``source`` names where the mapping came from (a file) for the message.
-    """
-    if not isinstance(mapping, Mapping):
-        raise TypeError(f"{source} must be a table of key = value pairs; got {type(mapping).__name__}.")
-    known = [f.name for f in dataclasses.fields(cls)]
-    unknown = sorted(set(mapping) - set(known))
-    if unknown:
-        raise ValueError(
-            f"{source}: unknown parameter(s) {', '.join(map(repr, unknown))} for {cls.__name__}; "
-            f"known: {', '.join(known)}."
-        )
-    try:
-        return cls(**dict(mapping))
-    except (TypeError, ValueError) as exc:
-        raise type(exc)(f"{source}: {exc}") from None
-
-
-def _plain(value: Any) -> Any:
-    if isinstance(value, tuple):
-        return [_plain(v) for v in value]
-    return value
 
 
 def _int_tuple(name: str, value: Any, length: int) -> tuple[int, ...]:
@@ -184,3 +162,8 @@ def _int_tuple(name: str, value: Any, length: int) -> tuple[int, ...]:
     if not all(is_int(v) for v in value):
         raise TypeError(f"{name} must hold integers only; got {value!r}.")
     return tuple(int(v) for v in value)
+
+
+# ``RefineParams``: the old name of ThesisParams, kept for one release (PEP 562).
+__getattr__, _ = lazy_exports(__name__, {}, deprecated={
+    "RefineParams": ("", "ThesisParams", "depthrefine.ThesisParams (the same class, renamed)")})

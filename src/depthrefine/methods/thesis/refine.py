@@ -14,7 +14,6 @@ are the manual patch rectangles, in color-image pixels.
 from __future__ import annotations
 
 import functools
-import os
 import threading
 import time
 import warnings
@@ -25,11 +24,12 @@ from typing import Any, Callable, Iterator
 
 import numpy as np
 
-from ..._lazy import ndimage
 from ..._validate import as_depth, check_pixels, check_rgb, valid_range
 from ..._fill import fill_invalid_nearest
-from .params import RefineParams
-from ..scale import ScaleStep, plan_scale, resize_color, resize_depth_nearest
+from .params import ThesisParams
+from ..scale import ScaleStep, ScaleWarning, plan_scale, resize_color, resize_depth_nearest
+from .interpolate import _interpolate_clusters, _nearest_samples, _spread
+from .patches import _manual_patches, patch_grid
 from .segment import cluster_colors, median_rgb, rgb_to_lab
 
 __all__ = [
@@ -51,10 +51,6 @@ Progress = Callable[[int, int], None]
 #: image (pixels) worth starting them for.
 _MAX_THREADS = 8
 _PARALLEL_MIN_PIXELS = 200_000
-
-
-class ScaleWarning(UserWarning):
-    """The color/depth ratio is not an integer: the thesis's scale step was applied."""
 
 
 @dataclass(frozen=True)
@@ -121,7 +117,7 @@ def refine_thesis(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     progress: Progress | None = None,
 ) -> np.ndarray:
     """Refine ``depth_lr`` to the resolution of ``rgb_hr`` with the thesis method.
@@ -134,7 +130,7 @@ def refine_thesis(
     rgb_hr : (H, W, 3) uint8, uint16 or float ndarray in [0, 1]
         Registered color image (RGB order). Gray (H, W) is repeated to three
         channels; an alpha channel is dropped.
-    params : RefineParams, optional
+    params : ThesisParams, optional
         Thesis defaults when omitted.
     progress : callable, optional
         ``progress(done, total)`` after each patch.
@@ -158,7 +154,7 @@ def refine_thesis(
     --------
     >>> depth = np.array([[10, 10, 50, 50]] * 4, np.uint8)
     >>> rgb = np.zeros((8, 8, 3), np.uint8); rgb[:, 4:] = 200
-    >>> out = refine_thesis(depth, rgb, params=RefineParams(patches=(1, 1), n_clusters=2))
+    >>> out = refine_thesis(depth, rgb, params=ThesisParams(patches=(1, 1), n_clusters=2))
     >>> out.shape, out.dtype, out[0].tolist()
     ((8, 8), dtype('float32'), [10.0, 10.0, 10.0, 10.0, 50.0, 50.0, 50.0, 50.0])
     """
@@ -169,7 +165,7 @@ def refine_thesis_stateful(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     state: Any = None,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, Any]:
@@ -205,7 +201,7 @@ def refine_with_intermediates(
     depth_lr: np.ndarray,
     rgb_hr: np.ndarray,
     *,
-    params: RefineParams | None = None,
+    params: ThesisParams | None = None,
     progress: Progress | None = None,
 ) -> Refinement:
     """Like :func:`refine_thesis`, but return every intermediate result too.
@@ -219,74 +215,11 @@ def refine_with_intermediates(
     --------
     >>> depth = np.full((4, 4), 30, np.uint8)
     >>> rgb = np.zeros((8, 8, 3), np.uint8)
-    >>> r = refine_with_intermediates(depth, rgb, params=RefineParams(patches=(2, 2)))
+    >>> r = refine_with_intermediates(depth, rgb, params=ThesisParams(patches=(2, 2)))
     >>> r.labels.shape, len(r.patches), r.scale.factor
     ((8, 8), 4, 2)
     """
     return _run(depth_lr, rgb_hr, params, progress, keep=True)
-
-
-# ----------------------------------------------------------------------------
-# Step 4: patches
-# ----------------------------------------------------------------------------
-
-
-def patch_grid(depth_shape: tuple[int, int], patches: tuple[int, int]) -> list[tuple[int, int, int, int]]:
-    """Even patch grid on the depth grid: ``(row0, row1, col0, col1)`` per patch.
-
-    ``patches`` is ``(across, down)``. Each patch holds whole depth pixels;
-    a grid finer than the depth map collapses to one patch per depth pixel.
-
-    Examples
-    --------
-    >>> patch_grid((10, 8), (2, 2))
-    [(0, 5, 0, 4), (0, 5, 4, 8), (5, 10, 0, 4), (5, 10, 4, 8)]
-    """
-    h, w = depth_shape
-    across, down = patches
-    rows = np.unique(np.floor(np.linspace(0, h, down + 1) + 0.5).astype(int))
-    cols = np.unique(np.floor(np.linspace(0, w, across + 1) + 0.5).astype(int))
-    return [(int(r0), int(r1), int(c0), int(c1))
-            for r0, r1 in zip(rows[:-1], rows[1:]) for c0, c1 in zip(cols[:-1], cols[1:])]
-
-
-def _manual_patches(
-    layout: tuple[tuple[int, int, int, int], ...], depth_shape: tuple[int, int], color_shape: tuple[int, int]
-) -> tuple[list[tuple[int, int, int, int]], np.ndarray]:
-    """Snap manual rectangles (color pixels) to the depth grid; return them and the owner map."""
-    h, w = depth_shape
-    H, W = color_shape
-    owner = np.full((h, w), -1, dtype=np.int32)
-    out = []
-    for i, (x, y, width, height) in enumerate(layout):
-        if x + width > W or y + height > H:
-            raise ValueError(
-                f"manual patch {i} (patch_layout / --patch-file: x={x}, y={y}, width={width}, height={height}) reaches outside the "
-                f"color image ({W}x{H}); keep every rectangle inside it."
-            )
-        c0 = int(np.floor(x * w / W + 0.5))
-        c1 = int(np.floor((x + width) * w / W + 0.5))
-        r0 = int(np.floor(y * h / H + 0.5))
-        r1 = int(np.floor((y + height) * h / H + 0.5))
-        c1, r1 = max(c1, c0 + 1), max(r1, r0 + 1)
-        c0, r0 = min(c0, w - 1), min(r0, h - 1)
-        c1, r1 = min(c1, w), min(r1, h)
-        owner[r0:r1, c0:c1] = i
-        out.append((r0, r1, c0, c1))
-    missing = np.argwhere(owner < 0)
-    if len(missing):
-        r, c = missing[0]
-        s_r, s_c = H / h, W / w
-        raise ValueError(
-            f"the manual patches (patch_layout / --patch-file) leave {len(missing)} depth pixels uncovered, the first near color pixel "
-            f"x={int(c * s_c)}, y={int(r * s_r)}; the rectangles must cover the whole image."
-        )
-    return out, owner
-
-
-# ----------------------------------------------------------------------------
-# Step 6.3-6.4: histogram statistics and correction
-# ----------------------------------------------------------------------------
 
 
 def correct_cluster_depths(
@@ -358,7 +291,7 @@ class _Levels:
     n_bins: int
 
 
-def _levels(depth: np.ndarray, is_8bit: bool, params: RefineParams) -> _Levels:
+def _levels(depth: np.ndarray, is_8bit: bool, params: ThesisParams) -> _Levels:
     lo, hi = valid_range(depth)
     if params.level_size is not None:
         level_size = float(params.level_size)
@@ -377,11 +310,11 @@ class _Context:
     """What every patch reads (shared, never written while patches are solved)."""
 
     depth: np.ndarray          # (h, w) float32, NaN = no measurement
-    lab: np.ndarray            # (Hw, Ww, 3) float32: L*a*b* of the median-filtered color
+    color: np.ndarray          # (Hw, Ww, 3): the median-filtered color (each patch makes its own L*a*b*)
     nearest: np.ndarray        # (h, w): nearest valid depth anywhere (for patches without any)
     s: int                     # the integer scale factor
     levels: _Levels
-    params: RefineParams
+    params: ThesisParams
     keep: bool                 # also return the intermediates
     init_means: list | None = None  # per patch: the previous frame's cluster means (warm start)
     want_means: bool = False   # return each patch's cluster means (for the next frame)
@@ -403,7 +336,7 @@ class _WarmState:
     """What :func:`refine_thesis_stateful` carries from frame to frame."""
 
     patches: list
-    params: RefineParams
+    params: ThesisParams
     means: list
 
 
@@ -464,9 +397,9 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     With ``warm`` (``None`` or a previous state) also return the new state: each patch's
     k-means starts from the previous frame's means when that frame had the same patches.
     """
-    params = RefineParams() if params is None else params
-    if not isinstance(params, RefineParams):
-        raise TypeError(f"params must be a RefineParams; got {type(params).__name__}.")
+    params = ThesisParams() if params is None else params
+    if not isinstance(params, ThesisParams):
+        raise TypeError(f"params must be a ThesisParams; got {type(params).__name__}.")
     depth = as_depth(depth_lr)
     rgb = check_rgb(rgb_hr)
     check_pixels(rgb.shape, name="rgb_hr")
@@ -474,14 +407,14 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     if step.resizes_color:
         warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
     levels = _levels(depth, np.asarray(depth_lr).dtype == np.uint8, params)
-    filtered, lab = _color_features(rgb, step, params)
+    filtered = _color_features(rgb, step, params)
     lr_patches, owner = _lr_patches(params, depth.shape, step)
     with _timed("nearest fill"):
         nearest = fill_invalid_nearest(depth)
     stateful = warm is not False
     previous = warm if stateful and isinstance(warm, _WarmState) and warm.patches == lr_patches \
         and warm.params == params and len(warm.means) == len(lr_patches) else None
-    ctx = _Context(depth=depth, lab=lab, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
+    ctx = _Context(depth=depth, color=filtered, nearest=nearest, s=step.factor, levels=levels, params=params, keep=keep,
                    init_means=None if previous is None else previous.means, want_means=stateful)
     canvas = _Canvas.empty(step.work_shape, depth.shape, params.n_clusters, keep)
     means = []
@@ -496,22 +429,24 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     return (result, _WarmState(lr_patches, params, means)) if stateful else result
 
 
-def _color_features(rgb: np.ndarray, step: ScaleStep, params: RefineParams) -> tuple[np.ndarray, np.ndarray]:
-    """4.3.1-4.3.2 on the whole work grid: the median-filtered color and its L*a*b*.
+def _color_features(rgb: np.ndarray, step: ScaleStep, params: ThesisParams) -> np.ndarray:
+    """4.3.1 on the whole work grid: the median-filtered color.
 
     The median runs on the whole image at once (at a patch border the window
-    sees the neighbouring patch, not a mirrored edge); L*a*b* is per pixel.
+    sees the neighbouring patch, not a mirrored edge). Its L*a*b* (4.3.2),
+    per pixel, is made by each patch in its own thread (:func:`_solve_patch`):
+    OpenCV's conversion gives each pixel the same value whatever the image
+    around it (checked on whole images, patches, single pixels and shuffled
+    pixels), and a whole-image pass was a step of its own between the median
+    and the patches.
     """
     with _timed("scale step"):
         rgb_work = resize_color(rgb, step)
     with _timed("median"):
-        filtered = median_rgb(rgb_work, params.median_size)
-    with _timed("lab"):
-        lab = rgb_to_lab(filtered)
-    return filtered, lab
+        return median_rgb(rgb_work, params.median_size)
 
 
-def _lr_patches(params: RefineParams, depth_shape: tuple[int, int],
+def _lr_patches(params: ThesisParams, depth_shape: tuple[int, int],
                 step: ScaleStep) -> tuple[list[tuple[int, int, int, int]], np.ndarray | None]:
     """The patches on the depth grid, and for a manual layout the map of which patch owns each pixel."""
     if params.patch_layout is not None:
@@ -526,9 +461,11 @@ def _solve_patches(ctx: _Context, lr_patches: list[tuple[int, int, int, int]]) -
     (NumPy and OpenCV release the GIL) and yielded in order, so the result
     does not depend on timing.
     """
-    workers = min(len(lr_patches), os.cpu_count() or 1, _MAX_THREADS)
+    from ..._numba import threads  # the cores this process may use (depthrefine.batch gives a worker its share)
+
+    workers = min(len(lr_patches), threads(), _MAX_THREADS)
     solve = functools.partial(_solve_patch, ctx, lr_patches)
-    if workers <= 1 or ctx.lab.shape[0] * ctx.lab.shape[1] < _PARALLEL_MIN_PIXELS:
+    if workers <= 1 or ctx.color.shape[0] * ctx.color.shape[1] < _PARALLEL_MIN_PIXELS:
         for index in range(len(lr_patches)):
             yield solve(index)
         return
@@ -567,9 +504,11 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
     s, params, levels = ctx.s, ctx.params, ctx.levels
     init = None if ctx.init_means is None else ctx.init_means[index]
     # 4.3.2-4.3.3: unified L*, k-means.
+    with _timed("lab"):
+        lab = rgb_to_lab(ctx.color[r0 * s:r1 * s, c0 * s:c1 * s])
     with _timed("clustering"):
         clustered = cluster_colors(
-            ctx.lab[r0 * s:r1 * s, c0 * s:c1 * s], n_clusters=params.n_clusters,
+            lab, n_clusters=params.n_clusters,
             iterations=params.kmeans_iterations, unify=params.unify_lightness, black_bound=params.black_bound,
             white_bound=params.white_bound, max_lightness=params.max_lightness,
             lightness_weight=params.lightness_weight, return_features=ctx.keep or ctx.want_means,
@@ -656,98 +595,3 @@ def _timed(name: str) -> Iterator[None]:
         with _STEP_LOCK:
             if _STEP_TIMES is not None:
                 _STEP_TIMES[name] = _STEP_TIMES.get(name, 0.0) + elapsed
-
-
-def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep):
-    """Steps 7.1-7.4 for one patch: each pixel interpolated from its own cluster only.
-
-    For cluster ``c``, the valid corrected samples labelled ``c`` are dilated
-    by ``expansion`` depth pixels (new positions take the value of the nearest
-    cluster-``c`` sample), then interpolated bilinearly on the patch's color
-    grid, normalised by the weight of the samples present (so a missing
-    neighbour is never averaged in). Each pixel keeps the value of its own
-    cluster's map. Returns the combined patch (NaN where a pixel's cluster had
-    no sample in reach), if ``keep`` the per-cluster maps, and the count of
-    pixels that are not finite.
-    """
-    from . import _jit
-
-    hp, wp = corrected.shape
-    valid = np.isfinite(corrected)
-    # Cluster c's samples in plane c of (k, hp, wp) masks; one dilation for all planes.
-    masks = valid[None] & (lab_samples[None] == np.arange(k, dtype=lab_samples.dtype)[:, None, None])
-    values = np.where(masks, corrected[None], 0.0)
-    grown = masks
-    if expansion > 0 and masks.any():
-        grown = ndimage.binary_dilation(masks, structure=np.ones((1, 3, 3), dtype=bool), iterations=expansion)
-        for c in range(k):
-            if masks[c].any() and not masks[c].all():  # new positions: the value of the nearest sample
-                ir, ic = ndimage.distance_transform_edt(~masks[c], return_distances=False, return_indices=True)
-                values[c] = np.where(grown[c], corrected[ir, ic], 0.0)
-    weights = grown.astype(np.float64)
-
-    # Bilinear weights along rows and columns; sample i sits at i*s + s//2.
-    i0, i1, fr = _axis_weights(labels.shape[0], s, hp)
-    j0, j1, fc = _axis_weights(labels.shape[1], s, wp)
-
-    # Where a pixel's four samples are valid and all in its own cluster, the
-    # normalised interpolation is plain bilinear interpolation of the samples
-    # (``a + f * (b - a)`` keeps a constant exactly constant); other pixels
-    # interpolate value x weight and weight of their own cluster (after
-    # expansion) and divide, in float64 (num / den of a constant must round
-    # back to that constant exactly; float32 gave 3.0000002 for 3 beside a hole).
-    below = np.minimum(np.arange(hp) + 1, hp - 1)
-    right = np.minimum(np.arange(wp) + 1, wp - 1)
-    lab_valid = np.where(valid, lab_samples, -1)
-    uniform = ((lab_valid == lab_valid[below]) & (lab_valid == lab_valid[:, right])
-               & (lab_valid == lab_valid[below][:, right]))
-    cell_label = np.where(uniform, lab_valid, -1).astype(np.int16)
-    result = np.empty(labels.shape, dtype=np.float32)
-    n_missing = _jit.interpolate_patch(np.where(valid, corrected, 0.0).astype(np.float32), cell_label, labels,
-                                       values * weights, weights, i0, i1, fr, j0, j1, fc, result)
-
-    per_cluster = None
-    if keep:
-        per_cluster = np.full((k,) + labels.shape, np.nan, dtype=np.float32)
-        for c in range(k):
-            n = np.zeros(labels.shape)
-            d = np.zeros(labels.shape)
-            for ri, wr in ((i0, 1.0 - fr), (i1, fr)):
-                for cj, wc in ((j0, 1.0 - fc), (j1, fc)):
-                    wgt = wr[:, None] * wc[None, :] * weights[c][ri[:, None], cj[None, :]]
-                    n += wgt * values[c][ri[:, None], cj[None, :]]
-                    d += wgt
-            with np.errstate(invalid="ignore", divide="ignore"):
-                per_cluster[c] = np.where(d > 0, n / d, np.nan)
-    return result, per_cluster, n_missing
-
-
-@functools.lru_cache(maxsize=64)
-def _axis_weights(n_hr: int, s: int, n_lr: int):
-    """For HR positions 0..n_hr-1: the two neighbouring samples and the weight of the second.
-
-    Cached (patches of one grid share their sizes); the arrays are read-only.
-    """
-    t = (np.arange(n_hr, dtype=np.float64) - (s // 2)) / s
-    i0 = np.clip(np.floor(t).astype(np.intp), 0, n_lr - 1)
-    i1 = np.minimum(i0 + 1, n_lr - 1)
-    frac = np.clip(t - i0, 0.0, 1.0)
-    frac[i1 == i0] = 0.0
-    for array in (i0, i1, frac):
-        array.setflags(write=False)
-    return i0, i1, frac
-
-
-@functools.lru_cache(maxsize=64)
-def _nearest_samples(n_hr: int, s: int, n_lr: int) -> np.ndarray:
-    """For HR positions 0..n_hr-1 along one axis: the index of the nearest depth sample (read-only, cached)."""
-    index = np.clip(np.floor((np.arange(n_hr) - s // 2) / s + 0.5).astype(np.intp), 0, n_lr - 1)
-    index.setflags(write=False)
-    return index
-
-
-def _spread(depth_lr: np.ndarray, s: int, shape: tuple[int, int]) -> np.ndarray:
-    """Spreading (4.4.1): depth pixel (i, j) at (i*s + s//2, j*s + s//2), NaN elsewhere."""
-    sparse = np.full(shape, np.nan, dtype=np.float32)
-    sparse[s // 2::s, s // 2::s] = depth_lr[: len(range(s // 2, shape[0], s)), : len(range(s // 2, shape[1], s))]
-    return sparse

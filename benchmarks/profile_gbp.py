@@ -1,0 +1,237 @@
+"""Where gbp's time goes: the median wall time of each step of one ``refine`` call, per input.
+
+The step functions of ``depthrefine.methods.gbp`` (and gbp-fast's, and the
+solver's kernels in ``methods/_wls.py``) are wrapped in timers for the run,
+so the figures follow the code as it is: a step that calls another step
+(the trust check runs steps 1-4 one octave down) shows the inner one
+indented below it, and a step's own time excludes nothing (it is the wall
+time of its calls). The solver's calls are listed per call in order (a
+round's depth weights and smooth), so each round shows on its own line.
+``rest`` is the call's time outside the listed steps.
+
+Usage::
+
+    python benchmarks/profile_gbp.py [--method gbp] [--repeats 5] [--inputs thesis,art4] [--cpu | --memory]
+
+``--memory`` says instead, per step, the peak of the memory the call holds
+(``tracemalloc``: NumPy's and OpenCV's arrays), in multiples of the output
+depth map's bytes, between the end of the step before and the end of this one.
+
+``--cpu`` runs everything in one thread (OpenCV and the solver's threads
+off) and times the CPU seconds of that thread (``time.thread_time``): on a
+shared, loaded machine these vary far less than wall times, and they add up
+to what one core spends.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import functools
+import statistics
+import sys
+import time
+from collections import defaultdict
+
+import depthrefine
+
+try:
+    from benchmarks.bench_speed import INPUTS
+except ImportError:  # run as a script from benchmarks/
+    from bench_speed import INPUTS
+
+#: Short names of the inputs of :data:`bench_speed.INPUTS`.
+SHORT = {"thesis": "thesis geometry 176x144 x7 -> 1232x1008", "art4": "Middlebury Art x4 (344x272 -> 1376x1088)",
+         "art8": "Middlebury Art x8 (172x136 -> 1376x1088)", "art16": "Middlebury Art x16 (86x68 -> 1376x1088)"}
+
+#: (module, function names) wrapped in timers; a name missing from a module is skipped.
+STEPS = {
+    "depthrefine.methods.gbp.upsample": ("measure_input", "make_solver", "local_bounds", "back_project",
+                                         "flat_blend", "measured_trust", "blend_fallback", "clip_to_bounds"),
+    "depthrefine.methods.gbp.trust": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
+                                      "clamped_bicubic", "noise_levels", "reduce"),
+    "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce"),
+    "depthrefine.methods.gbp.fast": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
+                                     "clamped_bicubic", "reduce", "blend_fallback", "measured_trust", "resize"),
+    "depthrefine.methods._wls": ("color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth"),
+}
+
+#: Solver functions whose calls are listed one by one (the rounds).
+PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth"}
+
+
+#: The clock of the timers: wall time, or with ``--cpu`` the calling thread's CPU time.
+clock = time.perf_counter
+
+
+class StepRecorder:
+    """Wraps the step functions of :data:`STEPS`; subclasses say what they record at a step's start and end."""
+
+    def __init__(self):
+        self.stack: list[str] = []
+        self.counts: dict[tuple[str, ...], int] = defaultdict(int)
+
+    def start(self, path: tuple[str, ...]) -> object:
+        raise NotImplementedError
+
+    def end(self, path: tuple[str, ...], token: object) -> None:
+        raise NotImplementedError
+
+    def wrap(self, name: str, func):
+        @functools.wraps(func)
+        def recorded(*args, **kwargs):
+            parent = tuple(self.stack)
+            label = name
+            if name in PER_CALL:
+                self.counts[parent + (name,)] += 1
+                label = f"{name}#{self.counts[parent + (name,)]}"
+            self.stack.append(label)
+            path = tuple(self.stack)
+            token = self.start(path)
+            try:
+                return func(*args, **kwargs)
+            finally:
+                self.end(path, token)
+                self.stack.pop()
+        return recorded
+
+    @contextlib.contextmanager
+    def installed(self):
+        import importlib
+
+        saved = []
+        for module_name, names in STEPS.items():
+            try:
+                module = importlib.import_module(module_name)
+            except ImportError:
+                continue
+            for name in names:
+                if hasattr(module, name):
+                    saved.append((module, name, getattr(module, name)))
+                    setattr(module, name, self.wrap(name, getattr(module, name)))
+        try:
+            yield self
+        finally:
+            for module, name, func in saved:
+                setattr(module, name, func)
+
+
+class StepTimer(StepRecorder):
+    """Seconds per path of nested step calls (``back_project/smooth#3``), summed within one call."""
+
+    def __init__(self):
+        super().__init__()
+        self.times: dict[tuple[str, ...], float] = defaultdict(float)
+
+    def start(self, path):
+        self.times.setdefault(path, 0.0)  # entry order: a parent before its children
+        return clock()
+
+    def end(self, path, token):
+        self.times[path] += clock() - token
+
+
+class StepMemory(StepRecorder):
+    """Per path of nested step calls: the peak traced memory (bytes above the call's start) up to its end."""
+
+    def __init__(self, start: int):
+        super().__init__()
+        self.origin = start
+        self.peaks: dict[tuple[str, ...], int] = {}
+
+    def start(self, path):
+        self.peaks.setdefault(path, 0)
+
+    def end(self, path, token):
+        import tracemalloc
+
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.reset_peak()
+        self.peaks[path] = max(self.peaks[path], peak - self.origin)
+
+
+def memory_profile(depth, rgb, method: str) -> tuple[dict[tuple[str, ...], int], int, int]:
+    """Peak traced bytes per step path (above the call's start), the call's peak, and the output's bytes."""
+    import tracemalloc
+
+    depthrefine.refine(depth, rgb, method=method)  # warm-up
+    tracemalloc.start()
+    start = tracemalloc.get_traced_memory()[0]
+    tracer = StepMemory(start)
+    with tracer.installed():
+        out = depthrefine.refine(depth, rgb, method=method)
+    peak = max(tracer.peaks.values(), default=0)
+    peak = max(peak, tracemalloc.get_traced_memory()[1] - start)
+    tracemalloc.stop()
+    return tracer.peaks, peak, out.nbytes
+
+
+def profile(depth, rgb, method: str, repeats: int) -> tuple[dict[tuple[str, ...], float], float]:
+    """Median seconds of each step path over ``repeats`` calls, and of the whole call."""
+    depthrefine.refine(depth, rgb, method=method)  # warm-up
+    per_path: dict[tuple[str, ...], list[float]] = defaultdict(list)
+    total = []
+    for _ in range(repeats):
+        timer = StepTimer()
+        with timer.installed():
+            t0 = clock()
+            depthrefine.refine(depth, rgb, method=method)
+            total.append(clock() - t0)
+        for path, seconds in timer.times.items():
+            per_path[path].append(seconds)
+    return {path: statistics.median(v) for path, v in per_path.items()}, statistics.median(total)
+
+
+def format_profile(steps: dict[tuple[str, ...], float], total: float) -> list[str]:
+    """Indented lines ``step  ms  % of the call``, in call order, and the call's time outside its top steps."""
+    lines = []
+    for path, seconds in steps.items():
+        lines.append(f"  {'  ' * (len(path) - 1)}{path[-1]:{40 - 2 * len(path)}s} {seconds * 1e3:8.1f} ms "
+                     f"{100 * seconds / total:5.1f} %")
+    rest = total - sum(s for p, s in steps.items() if len(p) == 1)
+    lines.append(f"  {'rest':38s} {rest * 1e3:8.1f} ms {100 * rest / total:5.1f} %")
+    lines.append(f"  {'call':38s} {total * 1e3:8.1f} ms")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    import os
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--method", default="gbp")
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--inputs", default="thesis,art4", help=f"comma-separated, of {sorted(SHORT)}")
+    ap.add_argument("--cpu", action="store_true", help="one thread; CPU seconds of that thread")
+    ap.add_argument("--memory", action="store_true", help="the peak memory per step instead of the time")
+    args = ap.parse_args(argv)
+    if args.memory:
+        for short in args.inputs.split(","):
+            name = SHORT[short]
+            depth, rgb = INPUTS[name]()
+            peaks, peak, out_bytes = memory_profile(depth, rgb, args.method)
+            print(f"{args.method}, {name}: peak {peak / 2**20:.1f} MB = {peak / out_bytes:.1f} x the output")
+            for path, value in peaks.items():
+                print(f"  {'  ' * (len(path) - 1)}{path[-1]:{40 - 2 * len(path)}s} {value / out_bytes:6.1f} x")
+        return 0
+    global clock
+    if args.cpu:
+        import cv2
+
+        from depthrefine import _numba
+
+        cv2.setNumThreads(1)
+        _numba.threads = lambda: 1   # the solver's kernels in the calling thread
+        clock = time.thread_time
+    print(f"{args.method}: median of {args.repeats} calls, {'CPU' if args.cpu else 'wall'} time; load average "
+          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
+    for short in args.inputs.split(","):
+        name = SHORT[short]
+        depth, rgb = INPUTS[name]()
+        steps, total = profile(depth, rgb, args.method, args.repeats)
+        print(name)
+        print("\n".join(format_profile(steps, total)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,192 @@
+"""``gbp-fast``: guided back-projection for video rates (:func:`upsample_gbp_fast`).
+
+gbp's own steps on a reduced grid, then one edge-aware solve at full resolution:
+
+1. measure the input (:func:`~.measure.measure_input`; the guide's noise from
+   every eighth pair of its rows, which gave the same figure);
+2. reduce the guide by an integer factor ``k >= 2`` (area mean), so that the
+   work grid is at least ``work_scale`` times the depth grid;
+3. on the work grid, gbp's steps 2-4 (:func:`~.solve.back_project` with
+   ``rounds`` rounds, :func:`~.solve.flat_blend`), and with ``trust`` its step 5;
+4. enlarge the result bicubically to the color grid and smooth it once (one
+   pass along the rows and one along the columns) with weights from the
+   full-resolution guide and the result's own gradient
+   (:func:`~depthrefine.methods._wls.guided_smooth`): the edges the work grid
+   placed snap to the color edges.
+
+Where gbp solves eight times at full resolution, this solves twice on a grid
+of a quarter (or less) of the pixels and once, one iteration, at full
+resolution. Figures (speed beside FGS, accuracy per benchmark cell) and the
+commands that reproduce them: ``docs/speed.md``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..._validate import as_depth, check_int, check_number, check_rgb, guide_uint8
+from .measure import measure_input
+from .params import GbpParams
+from .solve import GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, resize
+from .trust import blend_fallback, measured_trust
+
+__all__ = ["GbpFastParams", "upsample_gbp_fast"]
+
+Progress = Callable[[int, int], None]
+
+#: The work grid is the color grid reduced by an integer factor of at least this (a quarter of the pixels).
+WORK_MIN_REDUCTION = 2
+#: The full-resolution solve's smoothness, in multiples of the nominal ``lambda_lr * s**2``.
+FINAL_LAMBDA = 4.0
+#: Its iterations (one pass along the rows and one along the columns each); 2 gained 0.3 % on the tuning mean.
+FINAL_ITERATIONS = 1
+#: The guide's noise is measured on every this-many-th pair of its rows (8 gave the same tuning mean as 1).
+NOISE_ROWS = 8
+
+
+@dataclass(frozen=True)
+class GbpFastParams:
+    """Parameters of ``gbp-fast`` (``method="gbp-fast"``).
+
+    ``lambda_lr``, ``sigma_color``, ``flat_lambda_lr``, ``gradient_levels``
+    and ``guide_smoothing`` are gbp's
+    (:class:`~.params.GbpParams`, same defaults and meaning).
+
+    Attributes
+    ----------
+    rounds : int
+        Back-projection rounds on the work grid (2; 3 gained 1.6 % on the
+        tuning mean for a tenth more time).
+    work_scale : float
+        The work grid is the color grid reduced by the largest integer
+        factor (at least 2) that keeps it at least this many times the depth
+        grid (4): x4 and x8 inputs are solved at half the color resolution,
+        x16 at a quarter.
+    trust : bool
+        gbp's check of the guide one octave down and its fallback (False:
+        on the benchmark it changed no cell by more than 1 %, and cost a
+        fifth of the time).
+    """
+
+    rounds: int = 2
+    work_scale: float = 4.0
+    lambda_lr: float = GbpParams.lambda_lr
+    sigma_color: float = GbpParams.sigma_color
+    flat_lambda_lr: float = GbpParams.flat_lambda_lr
+    gradient_levels: float = GbpParams.gradient_levels
+    guide_smoothing: float = GbpParams.guide_smoothing
+    trust: bool = False
+
+    def __post_init__(self) -> None:
+        check_int("rounds", self.rounds, minimum=1)
+        check_number("work_scale", self.work_scale, positive=True)
+        self.gbp_params()   # gbp's checks of the shared fields
+
+    def gbp_params(self) -> GbpParams:
+        """The :class:`~.params.GbpParams` of the work-grid steps (``iterations = rounds``)."""
+        shared = {f.name for f in dataclasses.fields(GbpParams)} & {f.name for f in dataclasses.fields(self)}
+        return GbpParams(iterations=self.rounds, **{name: getattr(self, name) for name in shared})
+
+
+def work_shape(depth_shape: tuple[int, int], color_shape: tuple[int, int], work_scale: float) -> tuple[int, int]:
+    """The work grid: the color grid reduced by an integer factor ``k >= 2``, at least ``work_scale`` x the depth grid.
+
+    An integer factor keeps OpenCV's area reduction of the guide on its fast
+    path (a fractional one took ten times longer). A color grid less than
+    twice the depth grid is not reduced.
+
+    Examples
+    --------
+    >>> work_shape((272, 344), (1088, 1376), 4.0), work_shape((68, 86), (1088, 1376), 4.0)
+    ((544, 688), (272, 344))
+    >>> work_shape((100, 100), (150, 150), 4.0)
+    (150, 150)
+    """
+    (h, w), (H, W) = depth_shape, color_shape
+    scale = min(H / h, W / w)
+    k = max(WORK_MIN_REDUCTION, int(scale // work_scale))
+    if scale < k:
+        return H, W
+    return -(-H // k), -(-W // k)
+
+
+def noise_rows(guide: np.ndarray) -> np.ndarray:
+    """Every :data:`NOISE_ROWS`-th pair of rows of ``guide``: the 2x2 blocks its noise is measured on.
+
+    :func:`~.measure.estimate_guide_noise` measures each 2x2 block of rows
+    ``2i, 2i + 1``; these are a subset of them, evenly spread.
+
+    Examples
+    --------
+    >>> noise_rows(np.arange(48).reshape(48, 1))[:, 0].tolist()
+    [0, 1, 16, 17, 32, 33]
+    """
+    period = 2 * NOISE_ROWS
+    rows = guide.shape[0] // period * period
+    if rows == 0:
+        return guide
+    return guide[:rows].reshape(rows // period, period, *guide.shape[1:])[:, :2].reshape(-1, *guide.shape[1:])
+
+
+def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFastParams | None = None,
+                      progress: Progress | None = None) -> np.ndarray:
+    """gbp on a reduced grid and one edge-aware solve at full resolution: upsample ``depth_lr`` to ``rgb_hr``'s grid.
+
+    The arguments, the result (float32 on the color grid, in ``depth_lr``'s
+    units, within its valid range) and the errors are those of
+    :func:`~.upsample.upsample_gbp`; ``params`` is a :class:`GbpFastParams`,
+    and ``progress(done, total)`` is called after each round and at the end.
+
+    Examples
+    --------
+    >>> out = upsample_gbp_fast(np.full((8, 8), 7.0, np.float32), np.zeros((32, 32, 3), np.uint8))
+    >>> out.shape, float(out.min()), float(out.max())
+    ((32, 32), 7.0, 7.0)
+    """
+    import cv2
+
+    from .. import _wls
+
+    p = GbpFastParams() if params is None else params
+    if not isinstance(p, GbpFastParams):
+        raise TypeError(f"params must be GbpFastParams or None; got {type(p).__name__}.")
+    depth, guide = as_depth(depth_lr), guide_uint8(check_rgb(rgb_hr))
+    g = p.gbp_params()
+    shape = guide.shape[:2]
+    work = work_shape(depth.shape, shape, p.work_scale)
+    total = p.rounds + 2
+
+    def step(done: int) -> None:
+        if progress is not None:
+            progress(done, total)
+
+    m = measure_input(depth, noise_rows(guide))                                      # 1
+    if work == shape:   # a color grid under twice the depth grid: gbp's steps there, nothing to enlarge
+        guide_work = guide
+    else:
+        guide_work = np.ascontiguousarray(resize(guide, work, cv2.INTER_AREA))       # 2
+    solver = make_solver(guide_work, m, g, GUIDE_NOISE)
+    bounds = local_bounds(m.depth, work)
+    x = back_project(m, solver, g, bounds, None if progress is None else lambda k, _: step(k))   # 3
+    x = flat_blend(x, m, solver, g)
+    clip_to_bounds(x, bounds)
+    step(p.rounds + 1)
+    if work != shape:                                                                # 4
+        s = 0.5 * (shape[0] / depth.shape[0] + shape[1] / depth.shape[1])
+        x = resize(x, shape, cv2.INTER_CUBIC)
+        sigma_color = max(p.sigma_color, GUIDE_NOISE * m.guide_noise)
+        lam = FINAL_LAMBDA * p.lambda_lr * s * s
+        if p.gradient_levels > 0:
+            x = _wls.guided_smooth(x, guide, sigma_color, p.gradient_levels * m.span / 255.0 / s, lam,
+                                   iterations=FINAL_ITERATIONS)
+        else:
+            x = _wls.smooth(x, *_wls.color_weights(guide, sigma_color), lam, iterations=FINAL_ITERATIONS)
+        np.clip(x, m.low, m.high, out=x)
+    if p.trust:                                                                      # 5
+        x = blend_fallback(x, measured_trust(m, guide_work, g), m)
+    step(total)
+    return x.astype(np.float32, copy=False)
