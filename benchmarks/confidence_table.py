@@ -1,6 +1,6 @@
 """How well each method's confidence map ranks its errors, beside the steepness baseline (issue 23).
 
-For every test scene of ``park``, ``middlebury30``, ``lu`` and ``tof`` at x4,
+For every test scene of ``park``, ``middlebury30``, ``lu``, ``tof`` and ``sensor`` at x4,
 x8 and x16 (``../shared/data`` or ``--data``), each method runs through
 ``depthrefine.refine_with_confidence`` and its map is scored by the
 sparsification curve (``depthrefine.bench.metrics.sparsification``) against
@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-PROTOCOLS = ("park", "middlebury30", "lu", "tof")
+PROTOCOLS = ("park", "middlebury30", "lu", "tof", "sensor")
 SCALES = (4, 8, 16)
 #: The issue's targets for gbp.
 AUSE_TARGET, HALF_TARGET = 0.6, 0.5
