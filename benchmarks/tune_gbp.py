@@ -11,6 +11,12 @@ its neighbours::
 
     python benchmarks/tune_gbp.py                                   # the defaults
     python benchmarks/tune_gbp.py --set lambda_lr=0.045 --set trust.TRUST_FLOOR=0.2
+    python benchmarks/tune_gbp.py --protocols sensor                # the simulated sensors' tuning scenes
+
+``--protocols`` scores other protocols' tuning scenes instead (``sensor``:
+its four ``<scene>-<model>`` tuning cases); the tuning mean of the defaults
+is over the three above. ``--edges`` adds the edge RMSE (a band of 3 px
+around the truth's depth edges), the sensor protocol's second target.
 """
 
 from __future__ import annotations
@@ -39,8 +45,12 @@ def _setting(text: str) -> tuple[str, float | int | bool]:
     return name.strip(), parsed
 
 
-def tuning_mean(data: Path, settings: list[tuple[str, object]]) -> tuple[float, dict[tuple[str, int], float]]:
-    """The tuning mean and the mean RMSE per (protocol, scale) and per scale (key ``("all", scale)``)."""
+def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple[str, ...] = PROTOCOLS,
+                edges: bool = False) -> tuple[float, dict[tuple[str, int], float]]:
+    """The tuning mean and the mean RMSE per (protocol, scale) and per scale (key ``("all", scale)``).
+
+    With ``edges`` the edge RMSE's means too, under ``(protocol + " edge", scale)``.
+    """
     from depthrefine.bench.metrics import score
     from depthrefine.bench.protocols import TUNING_SCENES, load_cases
     from depthrefine.methods.gbp import GbpParams, upsample_gbp
@@ -57,13 +67,15 @@ def tuning_mean(data: Path, settings: list[tuple[str, object]]) -> tuple[float, 
             fields[name] = value
     params = GbpParams(**fields)
     scores: dict[tuple[str, int], list[float]] = {}
-    for protocol in PROTOCOLS:
+    for protocol in protocols:
         for case in load_cases(data, protocol, SCALES):
             if case.scene in TUNING_SCENES[protocol]:
                 out = upsample_gbp(case.depth_lr, case.rgb_hr, params=params)
-                rmse = score(out, case.depth_gt, border=case.border).rmse
-                scores.setdefault((protocol, case.scale), []).append(rmse)
-                scores.setdefault(("all", case.scale), []).append(rmse)
+                scored = score(out, case.depth_gt, border=case.border)
+                scores.setdefault((protocol, case.scale), []).append(scored.rmse)
+                scores.setdefault(("all", case.scale), []).append(scored.rmse)
+                if edges:
+                    scores.setdefault((f"{protocol} edge", case.scale), []).append(scored.edge_rmse)
     means = {key: float(np.mean(values)) for key, values in scores.items()}
     return float(np.mean([means["all", s] for s in SCALES])), means
 
@@ -75,10 +87,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--data", type=Path, default=default, help="benchmark data folder")
     parser.add_argument("--set", dest="settings", type=_setting, action="append", default=[], metavar="NAME=VALUE",
                         help="a GbpParams field, or MODULE.CONSTANT of depthrefine.methods.gbp (repeatable)")
+    parser.add_argument("--protocols", type=lambda text: tuple(text.split(",")), default=PROTOCOLS,
+                        metavar="A,B", help="the protocols whose tuning scenes are scored")
+    parser.add_argument("--edges", action="store_true", help="also the edge RMSE (3 px band around depth edges)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
-    mean, means = tuning_mean(args.data, args.settings)
-    for protocol in (*PROTOCOLS, "all"):
+    mean, means = tuning_mean(args.data, args.settings, args.protocols, args.edges)
+    rows = [*args.protocols, *(f"{p} edge" for p in args.protocols if args.edges), "all"]
+    for protocol in rows:
         print(f"{protocol:13s} " + " / ".join(f"x{s} {means[protocol, s]:.4f}" for s in SCALES))
     print(f"tuning mean {mean:.4f}  ({', '.join(f'{n}={v}' for n, v in args.settings) or 'defaults'}; "
           f"{time.perf_counter() - t0:.0f} s)")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,25 @@ def shared_data_path(*parts: str) -> Path:
     if not path.exists():
         pytest.skip(f"shared data not available: {path}")
     return path
+
+
+@pytest.fixture
+def no_numba(monkeypatch):
+    """``import numba`` fails, as on a machine without it; modules that imported it are forgotten for the test.
+
+    Importing a compiled-kernel module then fails at its first line
+    (``depthrefine._numba`` imports numba), before any kernel is made or a
+    first-compile note is given, whatever earlier tests imported.
+    """
+    import depthrefine
+    import depthrefine.methods as methods
+    import depthrefine.methods.thesis as thesis
+
+    monkeypatch.setitem(sys.modules, "numba", None)
+    for name in ("depthrefine._numba", "depthrefine.methods._wls", "depthrefine.methods.thesis._jit"):
+        monkeypatch.delitem(sys.modules, name, raising=False)
+    for package, name in ((depthrefine, "_numba"), (methods, "_wls"), (thesis, "_jit")):
+        monkeypatch.delattr(package, name, raising=False)
 
 
 @pytest.fixture

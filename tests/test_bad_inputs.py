@@ -432,19 +432,9 @@ def test_internal_error_traceback_with_debug(tmp_path, capsys, monkeypatch, wher
     assert _snapshot(tmp_path) == before
 
 
-def _block_numba(monkeypatch):
-    """Make ``import numba`` fail, and forget the thesis kernels if an earlier test imported them."""
-    import depthrefine.methods.thesis as thesis
-
-    monkeypatch.setitem(sys.modules, "numba", None)
-    monkeypatch.delitem(sys.modules, "depthrefine.methods.thesis._jit", raising=False)
-    monkeypatch.delattr(thesis, "_jit", raising=False)
-
-
-def test_missing_dependency_one_line_exit_2(tmp_path, capsys, monkeypatch):
+def test_missing_dependency_one_line_exit_2(tmp_path, capsys, monkeypatch, no_numba):
     """numba not installed (or broken): the thesis method says what to install, exit 2, no traceback, no output."""
     ws = Workspace(tmp_path)
-    _block_numba(monkeypatch)
     before = _snapshot(tmp_path)
     code, err = _run(ws.refine(), capsys)
     assert code == 2, err
@@ -928,13 +918,12 @@ def test_other_cases_cover_every_command():
     assert commands <= covered, f"no bad-input case for {sorted(commands - covered)}"
 
 
-def test_missing_dependency_in_batch_says_what_to_install(monkeypatch):
+def test_missing_dependency_in_batch_says_what_to_install(monkeypatch, no_numba):
     """A frame that needs a missing package (numba for the thesis method) fails with the pip advice, not an internal error."""
     from distributed import Client, LocalCluster
 
     from depthrefine.batch import refine_many
 
-    _block_numba(monkeypatch)                           # the workers are threads of this process
     frames = {0: (np.full((8, 8), 100, np.uint8), np.zeros((32, 32, 3), np.uint8))}
     with LocalCluster(n_workers=1, processes=False) as cluster, Client(cluster) as client:
         with pytest.raises(RuntimeError) as info:

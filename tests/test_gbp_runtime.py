@@ -106,19 +106,6 @@ def test_refine_many_on_dask_threads_gives_the_bits_of_refine():
 
 # --- without numba ----------------------------------------------------------------------------------------
 
-def _block_numba(monkeypatch):
-    """Make ``import numba`` fail, and forget the compiled modules if an earlier test imported them."""
-    import depthrefine
-    import depthrefine.methods as methods
-    import depthrefine.methods.thesis as thesis
-
-    monkeypatch.setitem(sys.modules, "numba", None)
-    for name in ("depthrefine._numba", "depthrefine.methods._wls", "depthrefine.methods.thesis._jit"):
-        monkeypatch.delitem(sys.modules, name, raising=False)
-    for package, name in ((depthrefine, "_numba"), (methods, "_wls"), (thesis, "_jit")):
-        monkeypatch.delattr(package, name, raising=False)
-
-
 @pytest.fixture
 def scene():
     from depthrefine.bench.synthetic import make_scene
@@ -126,24 +113,22 @@ def scene():
     return make_scene((64, 64), 4, n_objects=2, seed=3, color_noise_std=4.0, shading=0.1)
 
 
-def test_refine_gbp_without_numba_names_numba(monkeypatch, scene):
+def test_refine_gbp_without_numba_names_numba(monkeypatch, scene, no_numba):
     """As for the thesis method: the import error of numba itself, which the CLI and batch turn into advice."""
     import depthrefine
 
-    _block_numba(monkeypatch)
     for method in ("gbp", "thesis"):
         with pytest.raises(ModuleNotFoundError) as info:
             depthrefine.refine(scene.depth_lr, scene.rgb_hr, method=method)
         assert info.value.name == "numba" and "numba" in str(info.value)
 
 
-def test_the_cli_without_numba_says_pip_install_numba_exit_2(monkeypatch, scene, tmp_path, capsys):
+def test_the_cli_without_numba_says_pip_install_numba_exit_2(monkeypatch, scene, tmp_path, capsys, no_numba):
     from depthrefine.cli import main
     from depthrefine.io import write_depth, write_rgb
 
     write_depth(tmp_path / "depth.png", scene.depth_lr)
     write_rgb(tmp_path / "rgb.png", scene.rgb_hr)
-    _block_numba(monkeypatch)
     code = main(["refine", str(tmp_path / "depth.png"), str(tmp_path / "rgb.png"), "-o", str(tmp_path / "out.png"),
                  "--method", "gbp"])
     err = capsys.readouterr().err
@@ -153,13 +138,12 @@ def test_the_cli_without_numba_says_pip_install_numba_exit_2(monkeypatch, scene,
     assert not (tmp_path / "out.png").exists()
 
 
-def test_batch_without_numba_says_pip_install_numba(monkeypatch, scene):
+def test_batch_without_numba_says_pip_install_numba(monkeypatch, scene, no_numba):
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
     from depthrefine.batch import refine_many
 
-    _block_numba(monkeypatch)                           # the workers are threads of this process
     frames = {0: (scene.depth_lr, scene.rgb_hr)}
     with LocalCluster(n_workers=1, processes=False, dashboard_address=":0") as cluster, Client(cluster) as client:
         with pytest.raises(RuntimeError) as info:

@@ -407,8 +407,8 @@ def _run(depth_lr, rgb_hr, params, progress, *, keep: bool, warm: Any = False):
     if step.resizes_color:
         warnings.warn(f"thesis scale step applied: {step.describe()}", ScaleWarning, stacklevel=3)
     levels = _levels(depth, np.asarray(depth_lr).dtype == np.uint8, params)
+    lr_patches, owner = _lr_patches(params, depth.shape, step)  # a bad patch layout fails before any work
     filtered = _color_features(rgb, step, params)
-    lr_patches, owner = _lr_patches(params, depth.shape, step)
     with _timed("nearest fill"):
         nearest = fill_invalid_nearest(depth)
     stateful = warm is not False
