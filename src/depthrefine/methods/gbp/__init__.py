@@ -7,6 +7,9 @@ registered color image (``H x W``, any factor) in five steps (a sixth on request
    depth range, so one set of defaults serves levels and millimetres),
    whether its pixels are footprint means or point samples, where it shows a
    depth jump, and the guide's own noise (:class:`InputMeasures`);
+   ``fattening`` (1b) where the input's jumps sit consistently beyond the color
+   edges on every side (a direct-ToF camera's near surface spilling over the
+   far one), thin the spilling side by as much;
 2. ``solve``    start from the bicubic enlargement, clipped at the input's jumps;
 3. ``solve``    back-project: rounds of "add the enlarged residual ``y - D(x)``,
    smooth with a weighted least-squares solve whose weights fall with the

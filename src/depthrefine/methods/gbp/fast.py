@@ -3,7 +3,9 @@
 gbp's own steps on a reduced grid, then one edge-aware solve at full resolution:
 
 1. measure the input (:func:`~.measure.measure_input`; the guide's noise from
-   every eighth pair of its rows, which gave the same figure);
+   every eighth pair of its rows, which gave the same figure), and thin a
+   direct-ToF camera's fattened side (gbp's step 1b, :mod:`.fattening`,
+   measured on the work grid of step 2);
 2. reduce the guide by an integer factor ``k >= 2`` (area mean), so that the
    work grid is at least ``work_scale`` times the depth grid;
 3. on the work grid, gbp's steps 2-4 (:func:`~.solve.back_project` with
@@ -29,6 +31,7 @@ from typing import Callable
 import numpy as np
 
 from ..._validate import as_depth, check_int, check_number, check_rgb, guide_uint8
+from .fattening import thin_fattened
 from .measure import measure_input
 from .params import GbpParams
 from .solve import GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, resize
@@ -164,11 +167,11 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
         if progress is not None:
             progress(done, total)
 
-    m = measure_input(depth, noise_rows(guide))                                      # 1
     if work == shape:   # a color grid under twice the depth grid: gbp's steps there, nothing to enlarge
         guide_work = guide
     else:
         guide_work = np.ascontiguousarray(resize(guide, work, cv2.INTER_AREA))       # 2
+    m = thin_fattened(measure_input(depth, noise_rows(guide)), guide_work)           # 1
     solver = make_solver(guide_work, m, g, GUIDE_NOISE)
     bounds = local_bounds(m.depth, work)
     x = back_project(m, solver, g, bounds, None if progress is None else lambda k, _: step(k))   # 3

@@ -13,6 +13,7 @@ from .params import GbpParams
 from . import solve
 from .solve import back_project, clip_to_bounds, flat_blend, local_bounds, make_solver
 from .edges import snap_edges
+from .fattening import thin_fattened
 from .trust import blend_fallback, measured_trust
 
 __all__ = ["upsample_gbp", "upsample_gbp_stateful"]
@@ -25,6 +26,8 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
     """Guided back-projection: upsample ``depth_lr`` to the grid of ``rgb_hr``.
 
     1. measure the input once (noise, range, sampling model, depth jumps, the guide's noise);
+       where its depth jumps sit consistently beyond the color edges on one side
+       (a direct-ToF camera's fattening), thin that side by as much;
     2. start from the bicubic enlargement, clipped at the input's depth jumps;
     3. back-project: ``iterations`` rounds of residual correction and edge-aware smoothing;
     4. blend in a stronger color-guided smoother where the input shows no depth edge;
@@ -75,7 +78,7 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     p = GbpParams() if params is None else params
     if not isinstance(p, GbpParams):
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
-    measures = measure_input(depth, guide)                                     # 1
+    measures = thin_fattened(measure_input(depth, guide), guide)               # 1, 1b
     solver = make_solver(guide, measures, p, solve.GUIDE_NOISE)
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3

@@ -1,0 +1,54 @@
+"""gbp's step 1b on the benchmark inputs: the measured edge offset of each case, and where it thins.
+
+For every case of the protocols given, prints the offset of the color edges
+from the input's depth jumps (``depthrefine.methods.gbp.fattening.edge_offset``,
+depth pixels, positive when the larger values spill over the smaller) and
+whether it reaches ``FATTEN_MIN`` (step 1b thins the input there); then, per
+protocol, the largest offset of the cases it leaves alone and how many it
+thins. A registered input must stay below the threshold (its output is then
+bit-identical to gbp without step 1b); the ``sensor`` protocol's direct-ToF
+cases should reach it::
+
+    python benchmarks/edge_offsets.py                       # every protocol
+    python benchmarks/edge_offsets.py --protocols sensor    # one
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def main(argv: list[str] | None = None) -> int:
+    from depthrefine._validate import as_depth, check_rgb, guide_uint8
+    from depthrefine.bench.protocols import load_cases
+    from depthrefine.methods.gbp.fattening import FATTEN_MIN, edge_offset
+    from depthrefine.methods.gbp.measure import measure_input
+
+    default = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--data", type=Path, default=default, help="benchmark data folder (default: ../shared/data)")
+    parser.add_argument("--protocols", default="park,middlebury30,lu,tof,realtof,sensor",
+                        help="comma-separated protocols (default: all)")
+    args = parser.parse_args(argv)
+    for protocol in args.protocols.split(","):
+        scales = (4, 8) if protocol == "realtof" else (4, 8, 16)
+        left, thinned = 0.0, []
+        for case in load_cases(args.data, protocol, scales):
+            guide = guide_uint8(check_rgb(case.rgb_hr))
+            offset = edge_offset(measure_input(as_depth(case.depth_lr), guide), guide)
+            applied = abs(offset) >= FATTEN_MIN
+            if applied:
+                thinned.append(f"{case.scene} x{case.scale}")
+            else:
+                left = max(left, abs(offset))
+            print(f"{protocol:12s} {case.scene:16s} x{case.scale:<3d} {offset:+.3f}{'  thinned' if applied else ''}",
+                  flush=True)
+        print(f"{protocol}: thinned {len(thinned)} case(s); largest |offset| left alone {left:.3f} "
+              f"(threshold {FATTEN_MIN})", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

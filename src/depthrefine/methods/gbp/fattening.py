@@ -1,0 +1,173 @@
+"""Step 1b of gbp: thin the surface a direct-ToF camera has grown over its neighbours.
+
+A direct-ToF pixel (phone LiDAR, SPAD arrays) reports the first strong
+return inside its footprint: where a near and a far surface share it, the
+near one wins, so every object is "fattened" by a fraction of the footprint
+and each depth jump of the input sits beyond the color edge, on the far
+side, all around the object. A registered input (the benchmarks' block
+means, an indirect-ToF pixel's coverage-weighted mean) has its jumps on the
+color edges, give or take the guide's texture.
+
+:func:`edge_offset` measures, at every large jump of the input, how far the
+strongest color edge lies along the depth gradient, and combines the
+medians of opposite directions (a shift of the whole map cancels, a
+fattening does not): a signed distance in depth pixels, positive when the
+larger values spill over the smaller ones. Only a consistent offset of at
+least :data:`FATTEN_MIN` depth pixels counts: on the benchmarks' registered
+inputs it stays at most 0.40, on the simulated direct-ToF camera of the
+``sensor`` protocol it is 0.58-1.04 in 11 of its 15 cases
+(``python benchmarks/edge_offsets.py``; ``docs/tuning.md``).
+:func:`thin_fattened` then shrinks the spilled side by that much on the
+color grid (a grey-level erosion of the larger values, or dilation) and
+reduces it back to the input's grid: the input the later steps see is the
+footprint mean the jumps would have had without the fattening.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .edges import jump_band
+from .measure import InputMeasures, near_jump
+from .solve import resize
+
+__all__ = ["edge_offset", "edge_offsets", "thin_fattened"]
+
+#: A median offset of the color edges below this many depth pixels is left alone (registered inputs: <= 0.45).
+FATTEN_MIN = 0.5
+#: The color edge is looked for this many depth pixels either side of the depth jump.
+SEARCH_RADIUS = 2.5
+#: The offsets are measured on a grid of at most this many pixels per depth pixel (the guide reduced to it).
+PROFILE_STEPS = 8
+#: A pixel's color-gradient profile counts when its peak holds this many times the profile's mean.
+PEAK_RATIO = 2.5
+#: Sigma of the blur of the enlarged depth before its gradient, in depth pixels (at least one color pixel).
+DEPTH_BLUR = 0.5
+#: Sigma of the blur of the guide's luminance before its gradient, color pixels (fine texture makes no edge).
+GUIDE_BLUR = 1.0
+#: The directions of the depth gradient are grouped into this many sectors (opposite ones make an axis) ...
+DIRECTIONS = 8
+#: ... a sector counts when it holds counted jump pixels along this many depth pixels of outline ...
+MIN_SECTOR_PIXELS = 25
+#: ... and at least this many axes need both of their sectors.
+MIN_AXES = 3
+
+
+def edge_offset(m: InputMeasures, guide: np.ndarray) -> float:
+    """How far the color edges lie from the input's large depth jumps, depth pixels, signed.
+
+    The offsets of :func:`edge_offsets` are grouped by the direction of the
+    depth gradient into :data:`DIRECTIONS` sectors (centred on the image
+    axes and diagonals). A fattening grows an object on opposite sides
+    alike, while a shift of the whole map moves opposite sides' edges in
+    opposite directions, so the offset is measured per axis, as the mean of
+    two opposite sectors' medians (a shift cancels), each sector holding
+    counted pixels along :data:`MIN_SECTOR_PIXELS` depth pixels of outline;
+    the result is the median over the axes, and 0.0 when fewer than
+    :data:`MIN_AXES` axes have both sectors (an outline facing one way, a
+    single straight edge say, cannot tell a fattening from a shift or a
+    shadow). Positive: the color edges lie on the side of the larger
+    values, i.e. the larger values spill over the smaller.
+    """
+    offsets, angles = edge_offsets(m, guide)
+    enough = MIN_SECTOR_PIXELS * min(PROFILE_STEPS, guide.shape[0] / m.depth.shape[0])   # depth pixels of outline
+    sector = np.floor(angles / (2.0 * np.pi) * DIRECTIONS + 0.5).astype(np.int64) % DIRECTIONS
+    medians = [np.median(offsets[sector == i]) if (sector == i).sum() >= enough else np.nan
+               for i in range(DIRECTIONS)]
+    half = DIRECTIONS // 2
+    axes = [(medians[i] + medians[i + half]) / 2.0 for i in range(half)]
+    axes = [a for a in axes if np.isfinite(a)]
+    return float(np.median(axes)) if len(axes) >= MIN_AXES else 0.0
+
+
+def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per jump pixel, the distance to the color edge along the depth gradient, and that gradient's angle.
+
+    At each color pixel on a large jump of the enlarged input (the band of
+    :func:`~.edges.jump_band`, thinned to the gradient's ridge), the guide's
+    luminance gradient is sampled along the depth gradient, :data:`SEARCH_RADIUS`
+    depth pixels either way (on the color grid, reduced to :data:`PROFILE_STEPS`
+    pixels per depth pixel when finer); where it has a clear peak, the peak's position
+    (sub-pixel, depth pixels, positive towards the larger values) is that
+    pixel's offset.
+
+    Returns
+    -------
+    offsets, angles : (n,) float ndarrays
+        Offsets in depth pixels; angles of the depth gradient, radians.
+    """
+    import cv2
+
+    band_lr = jump_band(m)
+    if not band_lr.any():
+        return np.zeros(0), np.zeros(0)
+    shape = guide.shape[:2]
+    luma = cv2.cvtColor(guide, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    if shape[0] > PROFILE_STEPS * m.depth.shape[0]:    # finer than the profile's samples: reduce the guide first
+        shape = (PROFILE_STEPS * m.depth.shape[0], round(PROFILE_STEPS * m.depth.shape[0] * shape[1] / shape[0]))
+        luma = resize(luma, shape, cv2.INTER_AREA)
+    scale = shape[0] / m.depth.shape[0]
+    band = resize(band_lr.astype(np.uint8), shape, cv2.INTER_NEAREST) > 0
+    depth = cv2.GaussianBlur(resize(m.filled, shape, cv2.INTER_LINEAR), (0, 0), max(1.0, DEPTH_BLUR * scale))
+    gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
+    magnitude = cv2.magnitude(gx, gy)
+    luma = cv2.GaussianBlur(luma, (0, 0), GUIDE_BLUR)
+    edges = cv2.magnitude(cv2.Sobel(luma, cv2.CV_32F, 1, 0), cv2.Sobel(luma, cv2.CV_32F, 0, 1))
+
+    ys, xs = np.nonzero(band & (magnitude > 0))
+    nx, ny = gx[ys, xs] / magnitude[ys, xs], gy[ys, xs] / magnitude[ys, xs]
+    here = magnitude[ys, xs]
+    ridge = (here >= _sample(magnitude, xs + nx, ys + ny)) & (here >= _sample(magnitude, xs - nx, ys - ny))
+    xs, ys, nx, ny = xs[ridge], ys[ridge], nx[ridge], ny[ridge]
+    reach = math.ceil(SEARCH_RADIUS * scale)
+    steps = np.arange(-reach, reach + 1, dtype=np.float32)
+    profile = _sample(edges, xs[:, None] + steps * nx[:, None], ys[:, None] + steps * ny[:, None])
+    profile /= profile.sum(axis=1, keepdims=True) + 1e-6
+    peak = np.argmax(profile, axis=1)
+    rows = np.arange(peak.size)
+    clear = (peak > 0) & (peak < steps.size - 1) & (profile[rows, peak] > PEAK_RATIO / steps.size)
+    peak, rows = peak[clear], rows[clear]
+    before, top, after = profile[rows, peak - 1], profile[rows, peak], profile[rows, peak + 1]
+    curvature = before - 2.0 * top + after
+    shift = np.where(curvature < 0, 0.5 * (before - after) / np.where(curvature < 0, curvature, -1.0), 0.0)
+    return (steps[peak] + shift) / scale, np.arctan2(ny[clear], nx[clear])
+
+
+def thin_fattened(m: InputMeasures, guide: np.ndarray) -> InputMeasures:
+    """The input's measures with a fattened side thinned (step 1b); ``m`` itself when no offset counts.
+
+    The hole-filled input is enlarged to the color grid (nearest), the side
+    that spills (:func:`edge_offset`) shrunk by the offset with a disc
+    (grey-level erosion of the larger values, dilation of the smaller), and
+    reduced back by area; holes stay holes. Noise, range, sampling model and
+    the guide's noise are the input's own; the jump map is measured anew.
+    """
+    import cv2
+
+    offset = edge_offset(m, guide)
+    if abs(offset) < FATTEN_MIN:
+        return m
+    shape = guide.shape[:2]
+    radius = int(round(abs(offset) * shape[0] / m.depth.shape[0]))
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1,) * 2)
+    enlarged = resize(m.filled, shape, cv2.INTER_NEAREST)
+    thinned = cv2.erode(enlarged, disc) if offset > 0 else cv2.dilate(enlarged, disc)
+    filled = resize(thinned, m.depth.shape, cv2.INTER_AREA)
+    depth = np.where(m.valid, filled, np.nan).astype(np.float32)
+    return dataclasses.replace(m, depth=depth, filled=filled, jump=near_jump(filled, m.sigma, m.span))
+
+
+def _sample(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``image`` at the points ``(x, y)`` (any shape), bilinear, border replicated."""
+    import cv2
+
+    shape, x, y = x.shape, x.astype(np.float32).ravel(), y.astype(np.float32).ravel()
+    cols = 4096                                   # cv2.remap takes at most 32767 columns
+    rows = max(1, -(-x.size // cols))
+    pad = rows * cols - x.size
+    grid_x, grid_y = np.pad(x, (0, pad)).reshape(rows, cols), np.pad(y, (0, pad)).reshape(rows, cols)
+    values = cv2.remap(image, grid_x, grid_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return values.ravel()[:x.size].reshape(shape)

@@ -1,0 +1,96 @@
+"""gbp step 1b: a direct-ToF camera's fattened objects are thinned back; registered inputs are left alone."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from depthrefine._validate import as_depth
+from depthrefine.methods.gbp import fattening, upsample_gbp
+from depthrefine.methods.gbp.fattening import FATTEN_MIN, edge_offset, thin_fattened
+from depthrefine.methods.gbp.measure import measure_input
+
+SCALE = 4
+
+
+def _footprint_means(depth_hr: np.ndarray, s: int) -> np.ndarray:
+    """Each depth pixel the mean of its s x s block of the truth (a registered ToF pixel)."""
+    h, w = depth_hr.shape[0] // s, depth_hr.shape[1] // s
+    return depth_hr[:h * s, :w * s].reshape(h, s, w, s).mean(axis=(1, 3)).astype(np.float32)
+
+
+def _fattened(depth_hr: np.ndarray, s: int, grow: int, larger_wins: bool) -> np.ndarray:
+    """A direct-ToF input: the winning side grown by ``grow`` color pixels, then block means."""
+    import cv2
+
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * grow + 1,) * 2)
+    grown = cv2.dilate(depth_hr, disc) if larger_wins else cv2.erode(depth_hr, disc)
+    return _footprint_means(grown, s)
+
+
+class _Scene:
+    """Discs of their own colors and depths before a wall: outlines facing every direction."""
+
+    def __init__(self):
+        import cv2
+
+        self.depth_hr_gt = np.full((384, 384), 40.0, np.float32)
+        self.rgb_hr = np.zeros((384, 384, 3), np.uint8)
+        self.rgb_hr[:] = (90, 110, 130)
+        for (x, y), radius, depth, color in (((110, 110), 80, 200.0, (230, 60, 40)),
+                                              ((270, 260), 90, 120.0, (40, 200, 90)),
+                                              ((290, 80), 50, 160.0, (250, 230, 60))):
+            cv2.circle(self.depth_hr_gt, (x, y), radius, depth, -1)
+            cv2.circle(self.rgb_hr, (x, y), radius, color, -1)
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return _Scene()
+
+
+def _offset(depth_lr, rgb):
+    return edge_offset(measure_input(as_depth(depth_lr), rgb), rgb)
+
+
+def _rmse(a, b):
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+def test_registered_input_has_no_offset_and_is_left_alone(scene):
+    depth_lr = _footprint_means(scene.depth_hr_gt, SCALE)
+    assert abs(_offset(depth_lr, scene.rgb_hr)) < 0.25
+    m = measure_input(as_depth(depth_lr), scene.rgb_hr)
+    assert thin_fattened(m, scene.rgb_hr) is m
+
+
+@pytest.mark.parametrize("larger_wins", [True, False], ids=["disparity (larger nearer)", "depth (smaller nearer)"])
+def test_fattening_is_measured_with_its_sign_and_undone(scene, larger_wins, monkeypatch):
+    truth = scene.depth_hr_gt if larger_wins else (300.0 - scene.depth_hr_gt).astype(np.float32)
+    depth_lr = _fattened(truth, SCALE, grow=SCALE, larger_wins=larger_wins)   # one depth pixel of fattening
+    offset = _offset(depth_lr, scene.rgb_hr)
+    assert 0.6 < abs(offset) < 1.4 and (offset > 0) == larger_wins
+    thinned = upsample_gbp(depth_lr, scene.rgb_hr)
+    monkeypatch.setattr(fattening, "FATTEN_MIN", np.inf)           # the same call without step 1b
+    kept = upsample_gbp(depth_lr, scene.rgb_hr)
+    assert _rmse(thinned, truth) < 0.6 * _rmse(kept, truth)
+
+
+def test_an_outline_facing_few_directions_tells_nothing(scene):
+    """One straight depth edge: a fattening cannot be told from a shift, so no offset."""
+    truth = np.full((384, 384), 50.0, np.float32)
+    truth[:, 192:] = 200.0
+    rgb = np.zeros((384, 384, 3), np.uint8)
+    rgb[:, 184:] = 255                                                # the color edge 2 depth pixels to the left
+    assert _offset(_footprint_means(truth, SCALE), rgb) == 0.0
+
+
+def test_holes_stay_holes_and_the_output_is_deterministic(scene):
+    depth_lr = _fattened(scene.depth_hr_gt, SCALE, grow=SCALE, larger_wins=True)
+    depth_lr[5:9, 5:9] = np.nan
+    m = measure_input(as_depth(depth_lr), scene.rgb_hr)
+    thinned = thin_fattened(m, scene.rgb_hr)
+    assert thinned is not m and abs(edge_offset(m, scene.rgb_hr)) >= FATTEN_MIN
+    assert np.array_equal(np.isnan(thinned.depth), np.isnan(depth_lr))
+    assert np.isfinite(thinned.filled).all()
+    assert np.array_equal(upsample_gbp(depth_lr, scene.rgb_hr), upsample_gbp(depth_lr, scene.rgb_hr))
