@@ -51,7 +51,8 @@ import numpy as np
 from .._numba import expf32, njit, note_first_compile, run_split
 from .._validate import check_int, check_number
 
-__all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth"]
+__all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth", "guided_enlarge",
+           "smooth_with_gradient"]
 
 #: Columns (rows) solved together by one thread (one vectorised sweep).
 _BLOCK = 64
@@ -230,6 +231,130 @@ def _depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, i0, i1):
             out_row[:] = 0.0
 
 
+@njit(inline="always")
+def _similar(lut, a0, a1, a2, b0, b1, b2, k):
+    """``lut[|dc|**2]`` of the colors at ``k`` of the color planes ``a0, a1, a2`` and ``b0, b1, b2``."""
+    d0 = np.float32(a0[k]) - np.float32(b0[k])   # float32, not numba's int64: exact, and half the width
+    d1 = np.float32(a1[k]) - np.float32(b1[k])
+    d2 = np.float32(a2[k]) - np.float32(b2[k])
+    return lut[np.int32(d0 * d0 + d1 * d1 + d2 * d2)]
+
+
+@njit
+def _blend_row(lut, colors, near, near_far, far, far_far, x_near, x_near_far, x_far, x_far_far, out, n):
+    """``out[k]``, ``k < n``: the mean of the small pixels ``near`` (bilinear weight 9/16), ``near_far``
+    (3/16), ``far`` (3/16) and ``far_far`` (1/16), each weighted also by its color's likeness to ``colors``
+    (tuples of three color rows); every array is indexed by ``k`` alone (the caller shifts them)."""
+    tiny = np.float32(1e-30)   # all four colors far off: the bilinear weights
+    b0, b1, b2 = colors
+    n0, n1, n2 = near
+    nf0, nf1, nf2 = near_far
+    f0, f1, f2 = far
+    ff0, ff1, ff2 = far_far
+    for k in range(n):
+        w_nn = np.float32(9.0) * (_similar(lut, n0, n1, n2, b0, b1, b2, k) + tiny)
+        w_nf = np.float32(3.0) * (_similar(lut, nf0, nf1, nf2, b0, b1, b2, k) + tiny)
+        w_fn = np.float32(3.0) * (_similar(lut, f0, f1, f2, b0, b1, b2, k) + tiny)
+        w_ff = _similar(lut, ff0, ff1, ff2, b0, b1, b2, k) + tiny
+        out[k] = (w_nn * x_near[k] + w_nf * x_near_far[k] + w_fn * x_far[k] + w_ff * x_far_far[k]) / (
+            w_nn + w_nf + w_fn + w_ff)
+
+
+@njit(inline="always")
+def _shift(planes, start, stop):
+    """The rows of ``planes`` (a tuple of three) from ``start`` to ``stop``."""
+    return planes[0][start:stop], planes[1][start:stop], planes[2][start:stop]
+
+
+@njit
+def _enlarge_rows(x, s0, s1, s2, g0, g1, g2, lut, out, i0, i1):
+    """:func:`guided_enlarge` for the rows ``i0:i1`` of ``out``; ``s*``, ``g*`` the small and the full guide's
+    color planes.
+
+    Output row ``2q`` lies between small rows ``q`` (bilinear weight 3/4)
+    and ``q - 1`` (1/4), row ``2q + 1`` between ``q`` and ``q + 1``, and so
+    along the columns (clamped at the borders). The even and the odd
+    output columns are made apart, each from its own color row (the guide's
+    row split into its even and odd pixels), then interleaved.
+    """
+    h, w = x.shape
+    cols = out.shape[1]
+    odd_cols = cols // 2                      # output columns 2k + 1
+    even_colors = np.empty((3, w), np.uint8)
+    odd_colors = np.empty((3, w), np.uint8)
+    even_out = np.empty(w, np.float32)
+    odd_out = np.empty(w, np.float32)
+    for i in range(i0, i1):
+        q = i >> 1
+        p = max(q - 1, 0) if i % 2 == 0 else min(q + 1, h - 1)
+        near, far = (s0[q], s1[q], s2[q]), (s0[p], s1[p], s2[p])
+        x_near, x_far = x[q], x[p]
+        for c, row in enumerate((g0[i], g1[i], g2[i])):
+            even_c, odd_c = even_colors[c], odd_colors[c]
+            for k in range(odd_cols):
+                even_c[k] = row[2 * k]
+                odd_c[k] = row[2 * k + 1]
+            if w > odd_cols:
+                even_c[w - 1] = row[2 * w - 2]
+        even = (even_colors[0], even_colors[1], even_colors[2])
+        odd = (odd_colors[0], odd_colors[1], odd_colors[2])
+        # column 0: small column 0 on both sides; columns 2k, k >= 1: small columns k and k - 1
+        _blend_row(lut, even, near, near, far, far, x_near, x_near, x_far, x_far, even_out, 1)
+        _blend_row(lut, _shift(even, 1, w), _shift(near, 1, w), _shift(near, 0, w - 1), _shift(far, 1, w),
+                   _shift(far, 0, w - 1), x_near[1:], x_near[:-1], x_far[1:], x_far[:-1], even_out[1:], w - 1)
+        # columns 2k + 1: small columns k and k + 1 (the last column: k on both sides)
+        last = min(odd_cols, w - 1)
+        _blend_row(lut, odd, near, _shift(near, 1, w), far, _shift(far, 1, w), x_near, x_near[1:], x_far,
+                   x_far[1:], odd_out, last)
+        if odd_cols > last:
+            _blend_row(lut, _shift(odd, last, w), _shift(near, last, w), _shift(near, last, w),
+                       _shift(far, last, w), _shift(far, last, w), x_near[last:], x_near[last:],
+                       x_far[last:], x_far[last:], odd_out[last:], 1)
+        out_row = out[i]
+        for k in range(odd_cols):
+            out_row[2 * k] = even_out[k]
+            out_row[2 * k + 1] = odd_out[k]
+        if w > odd_cols:
+            out_row[2 * w - 2] = even_out[w - 1]
+
+
+def guided_enlarge(x: np.ndarray, small_guide: np.ndarray, guide: np.ndarray, sigma_color: float) -> np.ndarray:
+    """Enlarge ``x`` x2 to ``guide``'s grid, each pixel from the small pixels whose color is like its own.
+
+    Joint bilateral upsampling (Kopf et al. 2007) on the bilinear footprint:
+    each output pixel is the mean of its four nearest ``x`` pixels weighted
+    by their bilinear weights (9, 3, 3, 1 sixteenths) times
+    ``exp(-|dc| / sigma_color)``, ``|dc|`` the distance of the output
+    pixel's color in ``guide`` to the small pixel's color in ``small_guide``
+    (its 2x2 block's mean, say); where all four are far off, the bilinear
+    enlargement. ``x`` and ``small_guide`` are on the grid of
+    ``ceil(H / 2) x ceil(W / 2)`` pixels, small pixel ``q`` centred between
+    output pixels ``2q`` and ``2q + 1``; the guides are (H, W, 3) uint8.
+
+    Examples
+    --------
+    >>> guide = np.zeros((4, 8, 3), np.uint8); guide[:, 3:] = 255       # the edge inside small column 1
+    >>> small = np.zeros((2, 4, 3), np.uint8); small[:, 1] = 128; small[:, 2:] = 255
+    >>> x = np.array([[0, 50, 100, 100]] * 2, np.float32)
+    >>> guided_enlarge(x, small, guide, 16.0)[0].round(1).tolist()
+    [0.0, 0.0, 0.0, 100.0, 100.0, 100.0, 100.0, 100.0]
+    """
+    import cv2
+
+    small_guide, guide = _guide(small_guide), _guide(guide)
+    x = np.ascontiguousarray(x, dtype=np.float32)
+    (H, W), (h, w) = guide.shape[:2], x.shape
+    if small_guide.shape[:2] != (h, w) or (h, w) != (-(-H // 2), -(-W // 2)) or guide.shape[2] != 3 \
+            or small_guide.shape[2] != 3:
+        raise ValueError(f"x and small_guide must be of the guide's grid halved, {(-(-H // 2), -(-W // 2))}, "
+                         f"the guides of 3 channels; got {x.shape}, {small_guide.shape} and {guide.shape}.")
+    lut = _color_lut(3, check_number("sigma_color", sigma_color, positive=True))
+    out = np.empty((H, W), np.float32)
+    run_split(_enlarge_rows, H, x, *cv2.split(small_guide), *cv2.split(guide), lut, out,
+              parallel=_parallel(out.shape))
+    return out
+
+
 def _guide(guide: np.ndarray) -> np.ndarray:
     """A checked guide as a C-contiguous (H, W, C) uint8 array (an (H, W) guide is one channel)."""
     guide = np.asarray(guide)
@@ -375,7 +500,7 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
 #: Per thread: scratch arrays of the last shapes solved (:func:`_scratch`).
 _local = threading.local()
 #: Uses and shapes whose scratch arrays a thread keeps (gbp-fast solves on two grids, each also transposed).
-_SCRATCH_SHAPES = 4
+_SCRATCH_SHAPES = 8
 
 
 def _scratch(use: str, shape: tuple[int, int], count: int = 2) -> list[np.ndarray]:
@@ -433,6 +558,43 @@ def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma:
     run_split(_edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
               parallel=_parallel(u.shape))
     return _solve(u, wx, wy, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
+
+
+def smooth_with_gradient(x: np.ndarray, wx: np.ndarray, wy: np.ndarray, sigma: float, lam: float, *,
+                         iterations: int = 3, attenuation: float = 0.25) -> np.ndarray:
+    """:func:`smooth` of ``x`` with the weights :func:`depth_weights` of ``x`` itself, in place.
+
+    The same bits as ``smooth(x, *depth_weights(x, sigma, wx, wy), lam,
+    ...)``, but ``x`` (a C-contiguous, finite float32 array) is solved in
+    place and returned, and the weights are made in this thread's scratch
+    arrays: no new image-sized array (each new one costs a page fault per
+    4 KiB page on first write).
+
+    Examples
+    --------
+    >>> guide = np.zeros((4, 6, 3), np.uint8); guide[:, 3:] = 255
+    >>> wx, wy = color_weights(guide, 4.0)
+    >>> x = np.tile(np.array([0, 1, 0, 10, 11, 10], np.float32), (4, 1))
+    >>> ref = smooth(x, *depth_weights(x, 5.0, wx, wy), 100.0)
+    >>> smooth_with_gradient(x, wx, wy, 5.0, 100.0) is x, bool((x == ref).all())
+    (True, True)
+    """
+    if not (isinstance(x, np.ndarray) and x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous
+            and x.flags.writeable):
+        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is solved in place).")
+    wx, wy = _weights(x.shape, wx, wy)
+    sigma = check_number("sigma", sigma, positive=True)
+    lam = check_number("lam", lam, nonnegative=True, finite=False)
+    iterations = check_int("iterations", iterations, minimum=1)
+    attenuation = check_number("attenuation", attenuation, nonnegative=True)
+    if x.size == 0:
+        return x
+    if not (np.isfinite(x.min()) and np.isfinite(x.max())):
+        raise ValueError("x must be finite everywhere; got NaN or infinite values (fill them first).")
+    out_x, out_y = _scratch("weights", x.shape)
+    run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
+              parallel=_parallel(x.shape))
+    return _solve(x, out_x, out_y, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
 
 
 def _solve(u: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam32: np.float32, iterations: int,

@@ -190,14 +190,20 @@ def estimate_guide_noise(guide: np.ndarray) -> float:
     >>> round(estimate_guide_noise(noisy))
     5
     """
+    import cv2
+
     h, w = (guide.shape[0] // 2) * 2, (guide.shape[1] // 2) * 2
     if h == 0 or w == 0:
         return 0.0
-    g = guide[:h, :w].astype(np.int16)
-    band = g[0::2, 0::2] - g[0::2, 1::2]
-    band -= g[1::2, 0::2]
-    band += g[1::2, 1::2]
-    counts = np.bincount((band + 510).ravel(), minlength=1021).astype(np.float64)
+    g = np.ascontiguousarray(guide[:h, :w], dtype=np.uint8)
+    channels = g.shape[2] if g.ndim == 3 else 1
+    # a - b - c + d of each 2x2 block [[a, b], [c, d]] as (a - c) - (b - d): first the row pairs, whole rows
+    # at a time, then the column pairs (NumPy's strided views of single pixels took four times as long)
+    rows = cv2.subtract(g[0::2].reshape(h // 2, -1), g[1::2].reshape(h // 2, -1), dtype=cv2.CV_16S)
+    pairs = rows.reshape(-1, 2 * channels)
+    band = cv2.subtract(pairs[:, :channels], pairs[:, channels:])
+    band += 510
+    counts = np.bincount(band.ravel(), minlength=1021).astype(np.float64)
     return _clipped_rms((np.arange(1021) - 510) * 0.5, counts)
 
 
