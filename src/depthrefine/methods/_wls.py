@@ -52,7 +52,7 @@ from .._numba import expf32, njit, note_first_compile, run_split
 from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth", "guided_enlarge",
-           "smooth_with_gradient"]
+           "smooth_with_gradient", "clip_nearest", "scratch"]
 
 #: Columns (rows) solved together by one thread (one vectorised sweep).
 _BLOCK = 64
@@ -355,6 +355,43 @@ def guided_enlarge(x: np.ndarray, small_guide: np.ndarray, guide: np.ndarray, si
     return out
 
 
+@njit
+def _clip_rows(x, low, high, lower, upper, rows, cols, i0, i1):
+    """:func:`clip_nearest` for the rows ``i0:i1`` of ``x``."""
+    for i in range(i0, i1):
+        x_row, lower_row, upper_row = x[i], lower[rows[i]], upper[rows[i]]
+        for j in range(x_row.shape[0]):
+            v = min(max(x_row[j], low), high)
+            x_row[j] = min(max(v, lower_row[cols[j]]), upper_row[cols[j]])
+
+
+def clip_nearest(x: np.ndarray, low: float, high: float, lower: np.ndarray, upper: np.ndarray, rows: np.ndarray,
+                 cols: np.ndarray) -> None:
+    """Clip ``x`` in place to ``[low, high]``, then pixel ``(i, j)`` to ``[lower[rows[i], cols[j]], upper[...]]``.
+
+    One pass: the bounds ``lower``, ``upper`` stay on their own (small)
+    grid, ``rows`` and ``cols`` (int32) map ``x``'s rows and columns to
+    theirs. ``x`` is a C-contiguous float32 array without NaN.
+
+    Examples
+    --------
+    >>> x = np.arange(6, dtype=np.float32).reshape(2, 3)
+    >>> clip_nearest(x, 0.5, 4.5, np.full((1, 2), 1, np.float32), np.array([[3, 9]], np.float32),
+    ...              np.zeros(2, np.int32), np.array([0, 0, 1], np.int32)); x.tolist()
+    [[1.0, 1.0, 2.0], [3.0, 3.0, 4.5]]
+    """
+    if not (x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous and x.flags.writeable):
+        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is clipped in place).")
+    if x.shape != (len(rows), len(cols)):
+        raise ValueError(f"rows and cols must map x's {x.shape} rows and columns; got {len(rows)} and {len(cols)}.")
+    lower = np.ascontiguousarray(lower, dtype=np.float32)
+    upper = np.ascontiguousarray(upper, dtype=np.float32)
+    rows = np.ascontiguousarray(rows, dtype=np.int32)
+    cols = np.ascontiguousarray(cols, dtype=np.int32)
+    run_split(_clip_rows, x.shape[0], x, np.float32(low), np.float32(high), lower, upper, rows, cols,
+              parallel=_parallel(x.shape))
+
+
 def _guide(guide: np.ndarray) -> np.ndarray:
     """A checked guide as a C-contiguous (H, W, C) uint8 array (an (H, W) guide is one channel)."""
     guide = np.asarray(guide)
@@ -521,6 +558,19 @@ def _scratch(use: str, shape: tuple[int, int], count: int = 2) -> list[np.ndarra
     while len(cache) > _SCRATCH_SHAPES:
         del cache[next(iter(cache))]
     return arrays[:count]
+
+
+def scratch(shape: tuple[int, int], count: int = 2) -> list[np.ndarray]:
+    """``count`` (at most 2) float32 arrays of ``shape`` that this module's solves use as scratch, in this thread.
+
+    For a caller's own image-sized temporaries between two solves: no new
+    array (its page faults) and no more memory than the solves hold anyway.
+    Their contents are undefined, and the next :func:`guided_smooth` or
+    :func:`smooth_with_gradient` in this thread overwrites them.
+    """
+    if not 1 <= count <= 2:
+        raise ValueError(f"count must be 1 or 2; got {count}.")
+    return _scratch("weights", (int(shape[0]), int(shape[1])))[:count]
 
 
 def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma: float, lam: float, *,

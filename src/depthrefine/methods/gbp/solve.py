@@ -33,7 +33,8 @@ from .measure import InputMeasures, noise_share
 if TYPE_CHECKING:
     from .params import GbpParams
 
-__all__ = ["Solver", "make_solver", "clamped_bicubic", "local_bounds", "clip_to_bounds", "back_project",
+__all__ = ["Solver", "Bounds", "make_solver", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
+           "back_project",
            "flat_blend", "reduce", "resize"]
 
 # ---- the detail solve
@@ -61,6 +62,9 @@ COARSE_FACTOR = 2
 COARSE_ROUNDS = 4
 #: ... when the reduced grid is at least this many times the depth grid (x4 and up; not the check one octave down).
 COARSE_MIN_SCALE = 2.0
+#: ... and when the input is footprint means (a point-sampled input's gaps are filled by the full-resolution solves:
+#: on flat-colored point-sampled scenes with a noisy guide, 4 reduced rounds raised the RMSE 9 -> 156).
+COARSE_MIN_FOOTPRINT = 1.0
 #: The enlargement to full resolution after them weighs colors with this many times the solves' color sensitivity.
 ENLARGE_SIGMA_COLOR = 16.0
 
@@ -187,14 +191,58 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray)
     return up
 
 
-def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0) -> tuple[np.ndarray, np.ndarray]:
+@dataclass(frozen=True, eq=False)
+class Bounds:
+    """:func:`local_bounds`: the input grid's bounds and, per row and column of the grid they bound, the input's.
+
+    ``low``, ``high`` (h, w) float32; ``rows`` (H,), ``cols`` (W,) int32:
+    pixel ``(i, j)`` of the grid is bounded by ``low[rows[i], cols[j]]`` and
+    ``high[rows[i], cols[j]]``, the nearest-neighbour enlargement
+    (``cv2.INTER_NEAREST``'s own index map) without its two image-sized
+    arrays. :meth:`full` makes them.
+    """
+
+    low: np.ndarray
+    high: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return len(self.rows), len(self.cols)
+
+    def full(self) -> tuple[np.ndarray, np.ndarray]:
+        """(low, high) on the grid: ``cv2.resize(..., INTER_NEAREST)`` of the input grid's, bit for bit."""
+        index = np.ix_(self.rows, self.cols)
+        return self.low[index], self.high[index]
+
+
+def nearest_index(n: int, size: int) -> np.ndarray:
+    """The source index of each of ``size`` pixels in ``cv2.resize(..., INTER_NEAREST)`` from ``n`` pixels (int32).
+
+    Taken from OpenCV itself (the enlargement of ``0, 1, ..., n - 1``), so it
+    is its map whatever its rounding.
+
+    Examples
+    --------
+    >>> nearest_index(3, 7).tolist()
+    [0, 0, 0, 1, 1, 2, 2]
+    """
+    import cv2
+
+    source = np.arange(n, dtype=np.float32).reshape(1, n)
+    return cv2.resize(source, (size, 1), interpolation=cv2.INTER_NEAREST).ravel().astype(np.int32)
+
+
+def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0) -> Bounds:
     """The range of the valid input pixels of each input pixel's 3x3 neighbourhood, on a grid of ``shape``.
 
     ``depth`` is the input with NaN for invalid pixels, continued linearly
     beyond its border (odd reflection: a slope keeps its last pixels'
-    values). Returns (low, high) float32; they are +-inf (no bound) over
-    missing input pixels and over the input pixels within ``hole_margin``
-    pixels of one.
+    values). Returns :class:`Bounds` (low, high float32 on the input's grid
+    and the grid's nearest input rows and columns); they are +-inf (no
+    bound) over missing input pixels and over the input pixels within
+    ``hole_margin`` pixels of one.
     """
     import cv2
 
@@ -207,15 +255,39 @@ def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0
     if hole_margin > 0:
         missing = cv2.dilate(missing.astype(np.uint8), np.ones((2 * hole_margin + 1,) * 2, np.uint8)) > 0
     low[missing], high[missing] = -np.inf, np.inf
-    return resize(low, shape, cv2.INTER_NEAREST), resize(high, shape, cv2.INTER_NEAREST)
+    (h, w), (H, W) = depth.shape, shape
+    return Bounds(np.ascontiguousarray(low), np.ascontiguousarray(high), nearest_index(h, H), nearest_index(w, W))
 
 
-def clip_to_bounds(x: np.ndarray, bounds: tuple[np.ndarray, np.ndarray]) -> None:
-    """Clip ``x`` in place to :func:`local_bounds` (``cv2.max`` / ``cv2.min``: 3x ``np.clip``'s speed)."""
+def clip_to_bounds(x: np.ndarray, bounds: Bounds | tuple[np.ndarray, np.ndarray], low: float = -np.inf,
+                   high: float = np.inf) -> None:
+    """Clip ``x`` in place to ``[low, high]``, then to ``bounds`` (:func:`local_bounds`, or (low, high) arrays).
+
+    The same bits as ``np.clip(x, low, high)`` followed by ``np.clip`` to the
+    bounds' image-sized arrays, in one pass without them.
+    """
     import cv2
 
+    if isinstance(bounds, Bounds):
+        from .. import _wls
+
+        _wls.clip_nearest(x, low, high, bounds.low, bounds.high, bounds.rows, bounds.cols)
+        return
+    if low > -np.inf or high < np.inf:
+        np.clip(x, low, high, out=x)
     cv2.max(x, bounds[0], dst=x)
     cv2.min(x, bounds[1], dst=x)
+
+
+def _bounds_on(bounds: Bounds | tuple[np.ndarray, np.ndarray], depth_shape: tuple[int, int],
+               shape: tuple[int, int]) -> Bounds | tuple[np.ndarray, np.ndarray]:
+    """``bounds`` (of the input's grid ``depth_shape``, on some grid) on the grid of ``shape`` instead."""
+    import cv2
+
+    if isinstance(bounds, Bounds):
+        return Bounds(bounds.low, bounds.high, nearest_index(depth_shape[0], shape[0]),
+                      nearest_index(depth_shape[1], shape[1]))
+    return resize(bounds[0], shape, cv2.INTER_NEAREST), resize(bounds[1], shape, cv2.INTER_NEAREST)
 
 
 def reduce(x: np.ndarray, shape: tuple[int, int], footprint: float) -> np.ndarray:
@@ -230,8 +302,13 @@ def reduce(x: np.ndarray, shape: tuple[int, int], footprint: float) -> np.ndarra
     return point + footprint * (resize(x, shape, cv2.INTER_AREA) - point)
 
 
-def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: tuple[np.ndarray, np.ndarray],
-                 progress: Progress | None = None, *, solve_iterations: int = SOLVE_ITERATIONS) -> np.ndarray:
+def _coarse(solver: Solver, m: InputMeasures) -> Solver | None:
+    """:attr:`Solver.reduced` for an input of footprint means (``COARSE_MIN_FOOTPRINT``), else None."""
+    return solver.reduced if m.footprint >= COARSE_MIN_FOOTPRINT else None
+
+
+def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds | tuple[np.ndarray, np.ndarray],
+                 progress: Progress | None = None, *, solve_iterations: int | None = None) -> np.ndarray:
     """Steps 2-3: the clipped bicubic start, then ``p.iterations`` back-projection rounds.
 
     Each round adds the Lanczos enlargement of the residual ``y - D(x)``
@@ -244,26 +321,29 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: tuple[n
     shows is kept where the guide does not show it), and clips it to the
     input's local range again. The smoothing grows with the input's noise
     and falls geometrically over the rounds; each solve runs
-    ``solve_iterations`` iterations. With :attr:`Solver.reduced`, the start
-    and the first ``COARSE_ROUNDS`` rounds (never the last) are made on the
-    reduced grid with the same smoothing strength, and the estimate is then
-    enlarged by :func:`~depthrefine.methods._wls.guided_enlarge` (each pixel
-    from the reduced pixels of its own color). ``bounds`` is
-    :func:`local_bounds` of ``m.depth`` on the solver's grid. Returns (H, W)
-    float32.
+    ``solve_iterations`` iterations (default ``SOLVE_ITERATIONS``). With
+    :attr:`Solver.reduced` and an input of footprint means, the start and
+    the first ``COARSE_ROUNDS`` rounds (never the last) are made on the
+    reduced grid with the same smoothing strength (and ``bounds`` there),
+    and the estimate is then enlarged by
+    :func:`~depthrefine.methods._wls.guided_enlarge` (each pixel from the
+    reduced pixels of its own color). ``bounds`` is :func:`local_bounds` of
+    ``m.depth`` on the solver's grid (or a (low, high) pair of arrays).
+    Returns (H, W) float32.
     """
     import cv2
 
     from .. import _wls
 
     (h, w), shape = m.depth.shape, solver.shape
+    solve_iterations = SOLVE_ITERATIONS if solve_iterations is None else solve_iterations
     # the smoothing strength per round, the same on either grid
     lam = p.lambda_lr * solver.scale * solver.scale * (1.0 + (m.sigma_levels / NOISE_REF) ** 2) * (
         1.0 + (POINT_LAMBDA - 1.0) * (1.0 - m.footprint))
-    coarse = solver.reduced
+    coarse = _coarse(solver, m)
     first = min(COARSE_ROUNDS, p.iterations - 1) if coarse is not None else 0
     grid = coarse if first > 0 else solver
-    grid_bounds = bounds if grid is solver else local_bounds(m.depth, grid.shape)
+    grid_bounds = bounds if grid is solver else _bounds_on(bounds, m.depth.shape, grid.shape)
     residual_bounds = grid_bounds if m.valid.all() else local_bounds(m.depth, grid.shape, hole_margin=1)
     x = clamped_bicubic(m.filled, grid.shape, m.jump)
     for k in range(p.iterations):
@@ -285,8 +365,7 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: tuple[n
                                       iterations=solve_iterations)
         else:
             x = _wls.smooth(x, grid.color_x, grid.color_y, lam * ratio, iterations=solve_iterations)
-        np.clip(x, m.low, m.high, out=x)
-        clip_to_bounds(x, grid_bounds)
+        clip_to_bounds(x, grid_bounds, m.low, m.high)
         if progress is not None:
             progress(k + 1, p.iterations + 1)
     return x
@@ -300,7 +379,8 @@ def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) ->
     (``p.flat_lambda_lr`` per depth pixel, of the bilinear enlargement)
     averages noise over whole color segments; on a noise-free input there
     is nothing to average and its share fades out (below
-    :data:`~.measure.FLAT_NOISE` levels). With :attr:`Solver.reduced` the
+    :data:`~.measure.FLAT_NOISE` levels). With :attr:`Solver.reduced` (as
+    in :func:`back_project`) the
     solve runs on the reduced grid (the same smoothness per depth pixel) and
     is enlarged bilinearly. ``x`` is updated in place and returned, within
     the input's range.
@@ -309,17 +389,19 @@ def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) ->
 
     from .. import _wls
 
-    grid = solver.reduced or solver
+    grid = _coarse(solver, m) or solver
     flat = _wls.smooth(resize(m.filled, grid.shape, cv2.INTER_LINEAR), grid.flat_x, grid.flat_y,
                        p.flat_lambda_lr * grid.scale)
-    if grid is not solver:
-        flat = resize(flat, solver.shape, cv2.INTER_LINEAR)
     kernel = np.ones((3, 3), np.uint8)
     local_range = cv2.dilate(m.filled, kernel) - cv2.erode(m.filled, kernel)
     edge = np.clip((local_range - EDGE_LOW * m.sigma) / (EDGE_WIDTH * m.sigma + 1e-6 * m.span), 0.0, 1.0)
     edge = cv2.dilate(edge.astype(np.float32), kernel)
-    edge = 1.0 - (1.0 - edge) * noise_share(m.sigma_levels)
-    edge = resize(edge, solver.shape, cv2.INTER_LINEAR)
+    edge = (1.0 - (1.0 - edge) * noise_share(m.sigma_levels)).astype(np.float32)
+    # the two image-sized temporaries in the solver's scratch arrays (free between solves): no more memory
+    flat_full, edge_full = _wls.scratch(solver.shape)
+    if grid is not solver:
+        flat = cv2.resize(flat, solver.shape[::-1], dst=flat_full, interpolation=cv2.INTER_LINEAR)
+    edge = cv2.resize(edge, solver.shape[::-1], dst=edge_full, interpolation=cv2.INTER_LINEAR)
     # x <- edge * x + (1 - edge) * flat, in place
     x -= flat
     x *= edge
