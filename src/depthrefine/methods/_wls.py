@@ -52,7 +52,7 @@ from .._numba import expf32, njit, note_first_compile, run_split
 from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth", "guided_enlarge",
-           "smooth_with_gradient", "clip_nearest", "scratch"]
+           "smooth_with_gradient", "clip_nearest", "clip_toward", "scratch"]
 
 #: Columns (rows) solved together by one thread (one vectorised sweep).
 _BLOCK = 64
@@ -267,9 +267,9 @@ def _shift(planes, start, stop):
 
 
 @njit
-def _enlarge_rows(x, s0, s1, s2, g0, g1, g2, lut, out, i0, i1):
-    """:func:`guided_enlarge` for the rows ``i0:i1`` of ``out``; ``s*``, ``g*`` the small and the full guide's
-    color planes.
+def _enlarge_rows(x, s0, s1, s2, guide, lut, out, i0, i1):
+    """:func:`guided_enlarge` for the rows ``i0:i1`` of ``out``; ``s*`` the small guide's color planes,
+    ``guide`` the (H, W, 3) one.
 
     Output row ``2q`` lies between small rows ``q`` (bilinear weight 3/4)
     and ``q - 1`` (1/4), row ``2q + 1`` between ``q`` and ``q + 1``, and so
@@ -289,13 +289,14 @@ def _enlarge_rows(x, s0, s1, s2, g0, g1, g2, lut, out, i0, i1):
         p = max(q - 1, 0) if i % 2 == 0 else min(q + 1, h - 1)
         near, far = (s0[q], s1[q], s2[q]), (s0[p], s1[p], s2[p])
         x_near, x_far = x[q], x[p]
-        for c, row in enumerate((g0[i], g1[i], g2[i])):
+        row = guide[i]
+        for c in range(3):
             even_c, odd_c = even_colors[c], odd_colors[c]
             for k in range(odd_cols):
-                even_c[k] = row[2 * k]
-                odd_c[k] = row[2 * k + 1]
+                even_c[k] = row[2 * k, c]
+                odd_c[k] = row[2 * k + 1, c]
             if w > odd_cols:
-                even_c[w - 1] = row[2 * w - 2]
+                even_c[w - 1] = row[2 * w - 2, c]
         even = (even_colors[0], even_colors[1], even_colors[2])
         odd = (odd_colors[0], odd_colors[1], odd_colors[2])
         # column 0: small column 0 on both sides; columns 2k, k >= 1: small columns k and k - 1
@@ -350,8 +351,7 @@ def guided_enlarge(x: np.ndarray, small_guide: np.ndarray, guide: np.ndarray, si
                          f"the guides of 3 channels; got {x.shape}, {small_guide.shape} and {guide.shape}.")
     lut = _color_lut(3, check_number("sigma_color", sigma_color, positive=True))
     out = np.empty((H, W), np.float32)
-    run_split(_enlarge_rows, H, x, *cv2.split(small_guide), *cv2.split(guide), lut, out,
-              parallel=_parallel(out.shape))
+    run_split(_enlarge_rows, H, x, *cv2.split(small_guide), guide, lut, out, parallel=_parallel(out.shape))
     return out
 
 
@@ -389,6 +389,42 @@ def clip_nearest(x: np.ndarray, low: float, high: float, lower: np.ndarray, uppe
     rows = np.ascontiguousarray(rows, dtype=np.int32)
     cols = np.ascontiguousarray(cols, dtype=np.int32)
     run_split(_clip_rows, x.shape[0], x, np.float32(low), np.float32(high), lower, upper, rows, cols,
+              parallel=_parallel(x.shape))
+
+
+@njit
+def _clip_toward_rows(x, weight, lower, upper, rows, cols, i0, i1):
+    """:func:`clip_toward` for the rows ``i0:i1`` of ``x``."""
+    for i in range(i0, i1):
+        x_row, w_row, lower_row, upper_row = x[i], weight[i], lower[rows[i]], upper[rows[i]]
+        for j in range(x_row.shape[0]):
+            v = x_row[j]
+            clipped = min(max(v, lower_row[cols[j]]), upper_row[cols[j]])
+            x_row[j] = v + (clipped - v) * w_row[j]
+
+
+def clip_toward(x: np.ndarray, weight: np.ndarray, lower: np.ndarray, upper: np.ndarray, rows: np.ndarray,
+                cols: np.ndarray) -> None:
+    """Move ``x`` in place toward its clip to the bounds of :func:`clip_nearest` by ``weight`` (0: stay, 1: clip).
+
+    ``x <- x + weight * (clip(x) - x)`` with float32 operations in that
+    order; ``weight`` is an array of ``x``'s shape.
+
+    Examples
+    --------
+    >>> x = np.array([[0.0, 5.0, 10.0]], np.float32)
+    >>> clip_toward(x, np.array([[1.0, 1.0, 0.5]], np.float32), np.full((1, 1), 2, np.float32),
+    ...             np.full((1, 1), 6, np.float32), np.zeros(1, np.int32), np.zeros(3, np.int32)); x.tolist()
+    [[2.0, 5.0, 8.0]]
+    """
+    if not (x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous and x.flags.writeable):
+        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is changed in place).")
+    if x.shape != (len(rows), len(cols)) or weight.shape != x.shape:
+        raise ValueError(f"weight must be of x's shape {x.shape} and rows, cols map its rows and columns; got "
+                         f"{weight.shape}, {len(rows)} and {len(cols)}.")
+    run_split(_clip_toward_rows, x.shape[0], x, np.ascontiguousarray(weight, dtype=np.float32),
+              np.ascontiguousarray(lower, dtype=np.float32), np.ascontiguousarray(upper, dtype=np.float32),
+              np.ascontiguousarray(rows, dtype=np.int32), np.ascontiguousarray(cols, dtype=np.int32),
               parallel=_parallel(x.shape))
 
 

@@ -179,15 +179,15 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray)
     """
     import cv2
 
+    from .. import _wls
+
     kernel = np.ones((3, 3), np.uint8)
     up = resize(depth, shape, cv2.INTER_CUBIC)
-    # np.clip(up, low, high), one full-size bound at a time (the call's peak memory)
-    clipped = cv2.max(up, resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST))
-    cv2.min(clipped, resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST), dst=clipped)
-    # up <- up + jump * (clipped - up), in place
-    clipped -= up
-    clipped *= resize(jump, shape, cv2.INTER_LINEAR)
-    up += clipped
+    # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid (the call's peak
+    # memory: one image-sized array beside the result)
+    (h, w), (H, W) = depth.shape, shape
+    _wls.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), cv2.erode(depth, kernel), cv2.dilate(depth, kernel),
+                     nearest_index(h, H), nearest_index(w, W))
     return up
 
 
