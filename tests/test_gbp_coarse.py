@@ -13,6 +13,7 @@ from depthrefine.methods.gbp import GbpParams, measure, solve, upsample_gbp
 
 cv2 = pytest.importorskip("cv2")
 _wls = pytest.importorskip("depthrefine.methods._wls")
+_resample = pytest.importorskip("depthrefine.methods._resample")
 
 
 def _enlarge_reference(x, small, guide, sigma):
@@ -47,9 +48,9 @@ def test_guided_enlarge_is_its_definition_bit_for_bit_at_odd_and_tiny_sizes(rng,
     guide = rng.integers(0, 256, shape + (3,)).astype(np.uint8)
     small = rng.integers(0, 256, (-(-shape[0] // 2), -(-shape[1] // 2), 3)).astype(np.uint8)
     x = (rng.random(small.shape[:2]) * 100).astype(np.float32)
-    assert np.array_equal(_wls.guided_enlarge(x, small, guide, 40.0), _enlarge_reference(x, small, guide, 40.0))
+    assert np.array_equal(_resample.guided_enlarge(x, small, guide, 40.0), _enlarge_reference(x, small, guide, 40.0))
     with pytest.raises(ValueError, match="halved"):
-        _wls.guided_enlarge(x[:, :0], small, guide, 40.0)
+        _resample.guided_enlarge(x[:, :0], small, guide, 40.0)
 
 
 def test_a_clean_step_stays_sharp_through_the_reduced_rounds():

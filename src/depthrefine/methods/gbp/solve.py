@@ -179,15 +179,15 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray)
     """
     import cv2
 
-    from .. import _wls
+    from .. import _resample
 
     kernel = np.ones((3, 3), np.uint8)
     up = resize(depth, shape, cv2.INTER_CUBIC)
     # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid (the call's peak
     # memory: one image-sized array beside the result)
     (h, w), (H, W) = depth.shape, shape
-    _wls.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), cv2.erode(depth, kernel), cv2.dilate(depth, kernel),
-                     nearest_index(h, H), nearest_index(w, W))
+    _resample.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), cv2.erode(depth, kernel),
+                          cv2.dilate(depth, kernel), nearest_index(h, H), nearest_index(w, W))
     return up
 
 
@@ -269,9 +269,9 @@ def clip_to_bounds(x: np.ndarray, bounds: Bounds | tuple[np.ndarray, np.ndarray]
     import cv2
 
     if isinstance(bounds, Bounds):
-        from .. import _wls
+        from .. import _resample
 
-        _wls.clip_nearest(x, low, high, bounds.low, bounds.high, bounds.rows, bounds.cols)
+        _resample.clip_nearest(x, low, high, bounds.low, bounds.high, bounds.rows, bounds.cols)
         return
     if low > -np.inf or high < np.inf:
         np.clip(x, low, high, out=x)
@@ -326,14 +326,14 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds 
     the first ``COARSE_ROUNDS`` rounds (never the last) are made on the
     reduced grid with the same smoothing strength (and ``bounds`` there),
     and the estimate is then enlarged by
-    :func:`~depthrefine.methods._wls.guided_enlarge` (each pixel from the
+    :func:`~depthrefine.methods._resample.guided_enlarge` (each pixel from the
     reduced pixels of its own color). ``bounds`` is :func:`local_bounds` of
     ``m.depth`` on the solver's grid (or a (low, high) pair of arrays).
     Returns (H, W) float32.
     """
     import cv2
 
-    from .. import _wls
+    from .. import _resample, _wls
 
     (h, w), shape = m.depth.shape, solver.shape
     solve_iterations = SOLVE_ITERATIONS if solve_iterations is None else solve_iterations
@@ -349,7 +349,7 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds 
     for k in range(p.iterations):
         if k == first and grid is not solver:
             # each pixel from the reduced pixels of its own color: the edges stay sharp
-            x = _wls.guided_enlarge(x, coarse.guide, solver.guide, ENLARGE_SIGMA_COLOR * solver.sigma_color)
+            x = _resample.guided_enlarge(x, coarse.guide, solver.guide, ENLARGE_SIGMA_COLOR * solver.sigma_color)
             grid, grid_bounds = solver, bounds
             residual_bounds = bounds if m.valid.all() else local_bounds(m.depth, shape, hole_margin=1)
         ratio = LAMBDA_FIRST * (LAMBDA_LAST / LAMBDA_FIRST) ** (k / max(1, p.iterations - 1))
