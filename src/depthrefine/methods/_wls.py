@@ -63,7 +63,7 @@ _PARALLEL_PIXELS = 1 << 16
 MAX_COUPLING = 1e30
 #: Seconds a first solve spends compiling the kernels with an empty numba cache (2-core machine,
 #: ``python benchmarks/first_call.py``); said in the first-compile note.
-FIRST_COMPILE_SECONDS = 3
+FIRST_COMPILE_SECONDS = 4
 
 
 @njit(error_model="numpy")
