@@ -53,11 +53,13 @@ STEPS = {
     "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce"),
     "depthrefine.methods.gbp.fast": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
                                      "clamped_bicubic", "reduce", "blend_fallback", "measured_trust", "resize"),
-    "depthrefine.methods._wls": ("color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth"),
+    "depthrefine.methods._wls": ("color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth",
+                                 "smooth_with_gradient"),
+    "depthrefine.methods._resample": ("guided_enlarge",),
 }
 
 #: Solver functions whose calls are listed one by one (the rounds).
-PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth"}
+PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth", "smooth_with_gradient"}
 
 
 #: The clock of the timers: wall time, or with ``--cpu`` the calling thread's CPU time.

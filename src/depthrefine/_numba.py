@@ -113,14 +113,37 @@ def _first_kernel(x):
     return x + 1
 
 
-def warm_up() -> None:
+def warm_up(*, skip_blas_check: bool = False) -> None:
     """Make numba ready to run compiled kernels: its first one in a process costs about a second.
 
     That second is numba setting up its CPU target (importing its own
     implementations, SciPy's BLAS bindings among them) before it loads the
     first kernel from the cache; later kernels load in milliseconds. The
     command line calls this in a thread while it reads the images.
+
+    ``skip_blas_check=True`` is for a process whose compiled code is all
+    depthrefine's (the command line): numba's set-up then skips its check
+    for SciPy's BLAS, which imports ``scipy.linalg`` (0.3-0.4 s of the
+    second); ``np.dot`` and ``np.linalg`` inside numba-compiled functions are
+    then unsupported in this process (no depthrefine kernel uses them).
+    Once numba's set-up is done (any kernel ran), it changes nothing.
     """
+    import sys
+
+    if skip_blas_check and "numba.np.arraymath" not in sys.modules:
+        import numba.np.linalg as linalg
+
+        check = getattr(linalg, "ensure_blas", None)
+        if check is not None:   # numba.np.arraymath runs it once, when numba's set-up imports it
+            def no_blas() -> None:
+                raise ImportError("numba's BLAS check skipped (depthrefine's command line)")
+
+            linalg.ensure_blas = no_blas
+            try:
+                _first_kernel(1)
+            finally:
+                linalg.ensure_blas = check
+            return
     _first_kernel(1)
 
 

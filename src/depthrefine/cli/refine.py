@@ -62,7 +62,7 @@ def _warm_up_numba(method: str) -> threading.Thread | None:
         try:
             from .._numba import warm_up
 
-            warm_up()
+            warm_up(skip_blas_check=True)   # this process runs only depthrefine's kernels
         except Exception:   # no numba, no cache: the refine itself says what is wrong
             pass
 

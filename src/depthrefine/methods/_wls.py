@@ -51,7 +51,8 @@ import numpy as np
 from .._numba import expf32, njit, note_first_compile, run_split
 from .._validate import check_int, check_number
 
-__all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth"]
+__all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth", "smooth_with_gradient",
+           "scratch"]
 
 #: Columns (rows) solved together by one thread (one vectorised sweep).
 _BLOCK = 64
@@ -62,7 +63,7 @@ _PARALLEL_PIXELS = 1 << 16
 MAX_COUPLING = 1e30
 #: Seconds a first solve spends compiling the kernels with an empty numba cache (2-core machine,
 #: ``python benchmarks/first_call.py``); said in the first-compile note.
-FIRST_COMPILE_SECONDS = 3
+FIRST_COMPILE_SECONDS = 4
 
 
 @njit(error_model="numpy")
@@ -375,7 +376,7 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
 #: Per thread: scratch arrays of the last shapes solved (:func:`_scratch`).
 _local = threading.local()
 #: Uses and shapes whose scratch arrays a thread keeps (gbp-fast solves on two grids, each also transposed).
-_SCRATCH_SHAPES = 4
+_SCRATCH_SHAPES = 8
 
 
 def _scratch(use: str, shape: tuple[int, int], count: int = 2) -> list[np.ndarray]:
@@ -396,6 +397,19 @@ def _scratch(use: str, shape: tuple[int, int], count: int = 2) -> list[np.ndarra
     while len(cache) > _SCRATCH_SHAPES:
         del cache[next(iter(cache))]
     return arrays[:count]
+
+
+def scratch(shape: tuple[int, int], count: int = 2) -> list[np.ndarray]:
+    """``count`` (at most 2) float32 arrays of ``shape`` that this module's solves use as scratch, in this thread.
+
+    For a caller's own image-sized temporaries between two solves: no new
+    array (its page faults) and no more memory than the solves hold anyway.
+    Their contents are undefined, and the next :func:`guided_smooth` or
+    :func:`smooth_with_gradient` in this thread overwrites them.
+    """
+    if not 1 <= count <= 2:
+        raise ValueError(f"count must be 1 or 2; got {count}.")
+    return _scratch("weights", (int(shape[0]), int(shape[1])))[:count]
 
 
 def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma: float, lam: float, *,
@@ -421,18 +435,58 @@ def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma:
     if u.shape != guide.shape[:2]:
         raise ValueError(f"src must have the guide's shape {guide.shape[:2]}; got {u.shape}.")
     lut = _color_lut(guide.shape[2], check_number("sigma_color", sigma_color, positive=True))
+    sigma, lam32, iterations, attenuation32 = _solve_arguments(u, "src", sigma, lam, iterations, attenuation)
+    if u.size == 0:
+        return u
+    wx, wy = _scratch("weights", u.shape)
+    run_split(_edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
+              parallel=_parallel(u.shape))
+    return _solve(u, wx, wy, lam32, iterations, attenuation32)
+
+
+def _solve_arguments(u: np.ndarray, name: str, sigma: float, lam: float, iterations: int, attenuation: float
+                     ) -> tuple[float, np.float32, int, np.float32]:
+    """The checked ``sigma``, ``lam`` (float32, capped at ``MAX_COUPLING``), ``iterations`` and ``attenuation``
+    (float32) of a solve of ``u`` (called ``name`` in the errors), which must be finite."""
     sigma = check_number("sigma", sigma, positive=True)
     lam = check_number("lam", lam, nonnegative=True, finite=False)
     iterations = check_int("iterations", iterations, minimum=1)
     attenuation = check_number("attenuation", attenuation, nonnegative=True)
-    if u.size == 0:
-        return u
-    if not (np.isfinite(u.min()) and np.isfinite(u.max())):
-        raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
-    wx, wy = _scratch("weights", u.shape)
-    run_split(_edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
-              parallel=_parallel(u.shape))
-    return _solve(u, wx, wy, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
+    if u.size and not (np.isfinite(u.min()) and np.isfinite(u.max())):
+        raise ValueError(f"{name} must be finite everywhere; got NaN or infinite values (fill them first).")
+    return sigma, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation)
+
+
+def smooth_with_gradient(x: np.ndarray, wx: np.ndarray, wy: np.ndarray, sigma: float, lam: float, *,
+                         iterations: int = 3, attenuation: float = 0.25) -> np.ndarray:
+    """:func:`smooth` of ``x`` with the weights :func:`depth_weights` of ``x`` itself, in place.
+
+    The same bits as ``smooth(x, *depth_weights(x, sigma, wx, wy), lam,
+    ...)``, but ``x`` (a C-contiguous, finite float32 array) is solved in
+    place and returned, and the weights are made in this thread's scratch
+    arrays: no new image-sized array (each new one costs a page fault per
+    4 KiB page on first write).
+
+    Examples
+    --------
+    >>> guide = np.zeros((4, 6, 3), np.uint8); guide[:, 3:] = 255
+    >>> wx, wy = color_weights(guide, 4.0)
+    >>> x = np.tile(np.array([0, 1, 0, 10, 11, 10], np.float32), (4, 1))
+    >>> ref = smooth(x, *depth_weights(x, 5.0, wx, wy), 100.0)
+    >>> smooth_with_gradient(x, wx, wy, 5.0, 100.0) is x, bool((x == ref).all())
+    (True, True)
+    """
+    if not (isinstance(x, np.ndarray) and x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous
+            and x.flags.writeable):
+        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is solved in place).")
+    wx, wy = _weights(x.shape, wx, wy)
+    sigma, lam32, iterations, attenuation32 = _solve_arguments(x, "x", sigma, lam, iterations, attenuation)
+    if x.size == 0:
+        return x
+    out_x, out_y = _scratch("weights", x.shape)
+    run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
+              parallel=_parallel(x.shape))
+    return _solve(x, out_x, out_y, lam32, iterations, attenuation32)
 
 
 def _solve(u: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam32: np.float32, iterations: int,

@@ -10,10 +10,19 @@
   gradient), each round held within the local range of the input.
 - :func:`flat_blend`: where the input shows no depth edge above its noise, a
   stronger color-guided smoother of the bilinear enlargement takes over.
+
+Where the color grid reduced x2 is still at least ``COARSE_MIN_SCALE`` times
+the depth grid (x4 and up), the first ``COARSE_ROUNDS`` rounds and the
+flat-area solve run on that reduced grid (a quarter of the pixels): the
+early rounds, whose strong smoothing places the edges, and the flat-area
+solve, which averages over whole segments, lose nothing by it (figures in
+``docs/speed.md``); the last rounds, which keep the detail, run at full
+resolution.
 """
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
@@ -24,7 +33,8 @@ from .measure import InputMeasures, noise_share
 if TYPE_CHECKING:
     from .params import GbpParams
 
-__all__ = ["Solver", "make_solver", "clamped_bicubic", "local_bounds", "clip_to_bounds", "back_project",
+__all__ = ["Solver", "Bounds", "make_solver", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
+           "back_project",
            "flat_blend", "reduce", "resize"]
 
 # ---- the detail solve
@@ -40,6 +50,23 @@ POINT_LAMBDA = 10.0
 GUIDE_NOISE = 3.0
 #: The guide's 3x3 bilateral filter (``GbpParams.guide_smoothing``): diameter and spatial sigma, color pixels.
 GUIDE_SMOOTHING_SIZE, GUIDE_SMOOTHING_SPACE = 3, 3.0
+
+#: Iterations of each round's solve (one pass along the rows and one along the columns each; the third
+#: iteration's smoothing, a sixteenth of the first's, changed the tuning mean by 0.15 %).
+SOLVE_ITERATIONS = 2
+
+# ---- coarse to fine
+#: The first rounds run on the color grid reduced by this factor (area mean of the guide) ...
+COARSE_FACTOR = 2
+#: ... this many of them (real captures lose their fine structure with more: ``docs/speed.md``) ...
+COARSE_ROUNDS = 4
+#: ... when the reduced grid is at least this many times the depth grid (x4 and up; not the check one octave down).
+COARSE_MIN_SCALE = 2.0
+#: ... and when the input is footprint means (a point-sampled input's gaps are filled by the full-resolution solves:
+#: on flat-colored point-sampled scenes with a noisy guide, 4 reduced rounds raised the RMSE 9 -> 156).
+COARSE_MIN_FOOTPRINT = 1.0
+#: The enlargement to full resolution after them weighs colors with this many times the solves' color sensitivity.
+ENLARGE_SIGMA_COLOR = 16.0
 
 # ---- the flat-area solve
 #: Color sensitivity of the flat-area solve, 8-bit levels.
@@ -59,7 +86,10 @@ class Solver:
     ``scale`` is the mean enlargement factor from the input's grid to the
     guide's; ``guide`` the guide after its bilateral filter; ``color_x``,
     ``color_y`` (``flat_x``, ``flat_y``) the edge weights of the detail
-    (flat-area) solve.
+    (flat-area) solve; ``sigma_color`` and ``flat_sigma_color`` the color
+    sensitivities they were made with. With ``coarse``, :meth:`reduced` gives
+    the same on the grid reduced by ``COARSE_FACTOR`` where that grid is at
+    least ``COARSE_MIN_SCALE`` times the depth grid.
     """
 
     shape: tuple[int, int]
@@ -69,15 +99,49 @@ class Solver:
     color_y: np.ndarray
     flat_x: np.ndarray
     flat_y: np.ndarray
+    sigma_color: float = 0.0
+    flat_sigma_color: float = 0.0
+    coarse: bool = False
+
+    @functools.cached_property
+    def reduced(self) -> Solver | None:
+        """This solver on the grid reduced by ``COARSE_FACTOR`` (made once, on first use), or None.
+
+        None without ``coarse`` or where the reduced grid would be less than
+        ``COARSE_MIN_SCALE`` times the depth grid.
+        """
+        import cv2
+
+        from .. import _wls
+
+        f = COARSE_FACTOR
+        if not self.coarse or self.scale / f < COARSE_MIN_SCALE:
+            return None
+        shape = (-(-self.shape[0] // f), -(-self.shape[1] // f))
+        # the mean of each f x f block (an odd last row or column is repeated): OpenCV's fast integer-factor path
+        pad_rows, pad_cols = shape[0] * f - self.shape[0], shape[1] * f - self.shape[1]
+        guide = self.guide
+        if pad_rows or pad_cols:
+            guide = cv2.copyMakeBorder(guide, 0, pad_rows, 0, pad_cols, cv2.BORDER_REPLICATE)
+        guide = np.ascontiguousarray(resize(guide, shape, cv2.INTER_AREA))
+        color_x, color_y = _wls.color_weights(guide, self.sigma_color)
+        flat_x, flat_y = color_x, color_y
+        if self.flat_sigma_color != self.sigma_color:
+            flat_x, flat_y = _wls.color_weights(guide, self.flat_sigma_color)
+        scale = 0.5 * (shape[0] / self.shape[0] + shape[1] / self.shape[1]) * self.scale
+        return Solver(shape, scale, guide, color_x, color_y, flat_x, flat_y, self.sigma_color,
+                      self.flat_sigma_color)
 
 
-def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor: float) -> Solver:
+def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor: float, *,
+                coarse: bool = True) -> Solver:
     """The guide's color weights for the solves of an input measured as ``m``.
 
     The guide goes through a 3x3 bilateral filter (``p.guide_smoothing``)
     first; each solve's color sensitivity is at least ``floor_factor``
     times the guide's noise (``m.guide_noise``), so pixel noise is not taken
-    for edges.
+    for edges. ``coarse=False`` keeps every round and the flat-area solve
+    on this grid (:attr:`Solver.reduced` is None).
     """
     import cv2
 
@@ -89,11 +153,13 @@ def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor:
         guide = cv2.bilateralFilter(guide, GUIDE_SMOOTHING_SIZE, p.guide_smoothing, GUIDE_SMOOTHING_SPACE,
                                     borderType=cv2.BORDER_REPLICATE)
     floor = floor_factor * m.guide_noise
-    color_x, color_y = _wls.color_weights(guide, max(p.sigma_color, floor))
+    sigma_color, flat_sigma_color = max(p.sigma_color, floor), max(FLAT_SIGMA_COLOR, floor)
+    color_x, color_y = _wls.color_weights(guide, sigma_color)
     flat_x, flat_y = color_x, color_y
     if FLAT_SIGMA_COLOR != p.sigma_color:
-        flat_x, flat_y = _wls.color_weights(guide, max(FLAT_SIGMA_COLOR, floor))
-    return Solver((H, W), 0.5 * (H / h + W / w), guide, color_x, color_y, flat_x, flat_y)
+        flat_x, flat_y = _wls.color_weights(guide, flat_sigma_color)
+    return Solver((H, W), 0.5 * (H / h + W / w), guide, color_x, color_y, flat_x, flat_y, sigma_color,
+                  flat_sigma_color, coarse)
 
 
 def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.ndarray:
@@ -113,26 +179,70 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray)
     """
     import cv2
 
+    from .. import _resample
+
     kernel = np.ones((3, 3), np.uint8)
     up = resize(depth, shape, cv2.INTER_CUBIC)
-    # np.clip(up, low, high), one full-size bound at a time (the call's peak memory)
-    clipped = cv2.max(up, resize(cv2.erode(depth, kernel), shape, cv2.INTER_NEAREST))
-    cv2.min(clipped, resize(cv2.dilate(depth, kernel), shape, cv2.INTER_NEAREST), dst=clipped)
-    # up <- up + jump * (clipped - up), in place
-    clipped -= up
-    clipped *= resize(jump, shape, cv2.INTER_LINEAR)
-    up += clipped
+    # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid (the call's peak
+    # memory: one image-sized array beside the result)
+    (h, w), (H, W) = depth.shape, shape
+    _resample.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), cv2.erode(depth, kernel),
+                          cv2.dilate(depth, kernel), nearest_index(h, H), nearest_index(w, W))
     return up
 
 
-def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0) -> tuple[np.ndarray, np.ndarray]:
+@dataclass(frozen=True, eq=False)
+class Bounds:
+    """:func:`local_bounds`: the input grid's bounds and, per row and column of the grid they bound, the input's.
+
+    ``low``, ``high`` (h, w) float32; ``rows`` (H,), ``cols`` (W,) int32:
+    pixel ``(i, j)`` of the grid is bounded by ``low[rows[i], cols[j]]`` and
+    ``high[rows[i], cols[j]]``, the nearest-neighbour enlargement
+    (``cv2.INTER_NEAREST``'s own index map) without its two image-sized
+    arrays. :meth:`full` makes them.
+    """
+
+    low: np.ndarray
+    high: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return len(self.rows), len(self.cols)
+
+    def full(self) -> tuple[np.ndarray, np.ndarray]:
+        """(low, high) on the grid: ``cv2.resize(..., INTER_NEAREST)`` of the input grid's, bit for bit."""
+        index = np.ix_(self.rows, self.cols)
+        return self.low[index], self.high[index]
+
+
+def nearest_index(n: int, size: int) -> np.ndarray:
+    """The source index of each of ``size`` pixels in ``cv2.resize(..., INTER_NEAREST)`` from ``n`` pixels (int32).
+
+    Taken from OpenCV itself (the enlargement of ``0, 1, ..., n - 1``), so it
+    is its map whatever its rounding.
+
+    Examples
+    --------
+    >>> nearest_index(3, 7).tolist()
+    [0, 0, 0, 1, 1, 2, 2]
+    """
+    import cv2
+
+    source = np.arange(n, dtype=np.float32).reshape(1, n)
+    return cv2.resize(source, (size, 1), interpolation=cv2.INTER_NEAREST).ravel().astype(np.int32)
+
+
+def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0) -> Bounds:
     """The range of the valid input pixels of each input pixel's 3x3 neighbourhood, on a grid of ``shape``.
 
     ``depth`` is the input with NaN for invalid pixels, continued linearly
     beyond its border (odd reflection: a slope keeps its last pixels'
-    values). Returns (low, high) float32; they are +-inf (no bound) over
-    missing input pixels and over the input pixels within ``hole_margin``
-    pixels of one.
+    values). Returns :class:`Bounds` (low, high float32 on the input's grid
+    and the grid's nearest input rows and columns); they are +-inf (no
+    bound) over missing input pixels and over the input pixels within
+    ``hole_margin`` pixels of one.
     """
     import cv2
 
@@ -145,15 +255,39 @@ def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0
     if hole_margin > 0:
         missing = cv2.dilate(missing.astype(np.uint8), np.ones((2 * hole_margin + 1,) * 2, np.uint8)) > 0
     low[missing], high[missing] = -np.inf, np.inf
-    return resize(low, shape, cv2.INTER_NEAREST), resize(high, shape, cv2.INTER_NEAREST)
+    (h, w), (H, W) = depth.shape, shape
+    return Bounds(np.ascontiguousarray(low), np.ascontiguousarray(high), nearest_index(h, H), nearest_index(w, W))
 
 
-def clip_to_bounds(x: np.ndarray, bounds: tuple[np.ndarray, np.ndarray]) -> None:
-    """Clip ``x`` in place to :func:`local_bounds` (``cv2.max`` / ``cv2.min``: 3x ``np.clip``'s speed)."""
+def clip_to_bounds(x: np.ndarray, bounds: Bounds | tuple[np.ndarray, np.ndarray], low: float = -np.inf,
+                   high: float = np.inf) -> None:
+    """Clip ``x`` in place to ``[low, high]``, then to ``bounds`` (:func:`local_bounds`, or (low, high) arrays).
+
+    The same bits as ``np.clip(x, low, high)`` followed by ``np.clip`` to the
+    bounds' image-sized arrays, in one pass without them.
+    """
     import cv2
 
+    if isinstance(bounds, Bounds):
+        from .. import _resample
+
+        _resample.clip_nearest(x, low, high, bounds.low, bounds.high, bounds.rows, bounds.cols)
+        return
+    if low > -np.inf or high < np.inf:
+        np.clip(x, low, high, out=x)
     cv2.max(x, bounds[0], dst=x)
     cv2.min(x, bounds[1], dst=x)
+
+
+def _bounds_on(bounds: Bounds | tuple[np.ndarray, np.ndarray], depth_shape: tuple[int, int],
+               shape: tuple[int, int]) -> Bounds | tuple[np.ndarray, np.ndarray]:
+    """``bounds`` (of the input's grid ``depth_shape``, on some grid) on the grid of ``shape`` instead."""
+    import cv2
+
+    if isinstance(bounds, Bounds):
+        return Bounds(bounds.low, bounds.high, nearest_index(depth_shape[0], shape[0]),
+                      nearest_index(depth_shape[1], shape[1]))
+    return resize(bounds[0], shape, cv2.INTER_NEAREST), resize(bounds[1], shape, cv2.INTER_NEAREST)
 
 
 def reduce(x: np.ndarray, shape: tuple[int, int], footprint: float) -> np.ndarray:
@@ -168,8 +302,13 @@ def reduce(x: np.ndarray, shape: tuple[int, int], footprint: float) -> np.ndarra
     return point + footprint * (resize(x, shape, cv2.INTER_AREA) - point)
 
 
-def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: tuple[np.ndarray, np.ndarray],
-                 progress: Progress | None = None) -> np.ndarray:
+def _coarse(solver: Solver, m: InputMeasures) -> Solver | None:
+    """:attr:`Solver.reduced` for an input of footprint means (``COARSE_MIN_FOOTPRINT``), else None."""
+    return solver.reduced if m.footprint >= COARSE_MIN_FOOTPRINT else None
+
+
+def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds | tuple[np.ndarray, np.ndarray],
+                 progress: Progress | None = None, *, solve_iterations: int | None = None) -> np.ndarray:
     """Steps 2-3: the clipped bicubic start, then ``p.iterations`` back-projection rounds.
 
     Each round adds the Lanczos enlargement of the residual ``y - D(x)``
@@ -181,37 +320,52 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: tuple[n
     color difference and with the estimate's own gradient (a jump the input
     shows is kept where the guide does not show it), and clips it to the
     input's local range again. The smoothing grows with the input's noise
-    and falls geometrically over the rounds. ``bounds`` is
-    :func:`local_bounds` of ``m.depth`` on the solver's grid. Returns (H, W)
-    float32.
+    and falls geometrically over the rounds; each solve runs
+    ``solve_iterations`` iterations (default ``SOLVE_ITERATIONS``). With
+    :attr:`Solver.reduced` and an input of footprint means, the start and
+    the first ``COARSE_ROUNDS`` rounds (never the last) are made on the
+    reduced grid with the same smoothing strength (and ``bounds`` there),
+    and the estimate is then enlarged by
+    :func:`~depthrefine.methods._resample.guided_enlarge` (each pixel from the
+    reduced pixels of its own color). ``bounds`` is :func:`local_bounds` of
+    ``m.depth`` on the solver's grid (or a (low, high) pair of arrays).
+    Returns (H, W) float32.
     """
     import cv2
 
-    from .. import _wls
+    from .. import _resample, _wls
 
-    (h, w), shape, s = m.depth.shape, solver.shape, solver.scale
-    lam = p.lambda_lr * s * s * (1.0 + (m.sigma_levels / NOISE_REF) ** 2) * (
+    (h, w), shape = m.depth.shape, solver.shape
+    solve_iterations = SOLVE_ITERATIONS if solve_iterations is None else solve_iterations
+    # the smoothing strength per round, the same on either grid
+    lam = p.lambda_lr * solver.scale * solver.scale * (1.0 + (m.sigma_levels / NOISE_REF) ** 2) * (
         1.0 + (POINT_LAMBDA - 1.0) * (1.0 - m.footprint))
-    # a jump the back-projection places spreads over about s color pixels
-    gradient_sigma = p.gradient_levels * m.span / 255.0 / s
-    residual_bounds = bounds
-    if not m.valid.all():
-        residual_bounds = local_bounds(m.depth, shape, hole_margin=1)
-    x = clamped_bicubic(m.filled, shape, m.jump)
+    coarse = _coarse(solver, m)
+    first = min(COARSE_ROUNDS, p.iterations - 1) if coarse is not None else 0
+    grid = coarse if first > 0 else solver
+    grid_bounds = bounds if grid is solver else _bounds_on(bounds, m.depth.shape, grid.shape)
+    residual_bounds = grid_bounds if m.valid.all() else local_bounds(m.depth, grid.shape, hole_margin=1)
+    x = clamped_bicubic(m.filled, grid.shape, m.jump)
     for k in range(p.iterations):
+        if k == first and grid is not solver:
+            # each pixel from the reduced pixels of its own color: the edges stay sharp
+            x = _resample.guided_enlarge(x, coarse.guide, solver.guide, ENLARGE_SIGMA_COLOR * solver.sigma_color)
+            grid, grid_bounds = solver, bounds
+            residual_bounds = bounds if m.valid.all() else local_bounds(m.depth, shape, hole_margin=1)
         ratio = LAMBDA_FIRST * (LAMBDA_LAST / LAMBDA_FIRST) ** (k / max(1, p.iterations - 1))
         residual = m.filled - reduce(x, (h, w), m.footprint)
         residual[~m.valid] = 0.0
-        x += resize(residual, shape, cv2.INTER_LANCZOS4)
+        x += resize(residual, grid.shape, cv2.INTER_LANCZOS4)
         if k < p.iterations - 1:
             clip_to_bounds(x, residual_bounds)
         if p.gradient_levels > 0:
-            weight_x, weight_y = _wls.depth_weights(x, gradient_sigma, solver.color_x, solver.color_y)
+            # a jump the back-projection places spreads over about ``grid.scale`` pixels
+            gradient_sigma = p.gradient_levels * m.span / 255.0 / grid.scale
+            _wls.smooth_with_gradient(x, grid.color_x, grid.color_y, gradient_sigma, lam * ratio,
+                                      iterations=solve_iterations)
         else:
-            weight_x, weight_y = solver.color_x, solver.color_y
-        x = _wls.smooth(x, weight_x, weight_y, lam * ratio)
-        np.clip(x, m.low, m.high, out=x)
-        clip_to_bounds(x, bounds)
+            x = _wls.smooth(x, grid.color_x, grid.color_y, lam * ratio, iterations=solve_iterations)
+        clip_to_bounds(x, grid_bounds, m.low, m.high)
         if progress is not None:
             progress(k + 1, p.iterations + 1)
     return x
@@ -225,21 +379,29 @@ def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) ->
     (``p.flat_lambda_lr`` per depth pixel, of the bilinear enlargement)
     averages noise over whole color segments; on a noise-free input there
     is nothing to average and its share fades out (below
-    :data:`~.measure.FLAT_NOISE` levels). ``x`` is updated in place and
-    returned, within the input's range.
+    :data:`~.measure.FLAT_NOISE` levels). With :attr:`Solver.reduced` (as
+    in :func:`back_project`) the
+    solve runs on the reduced grid (the same smoothness per depth pixel) and
+    is enlarged bilinearly. ``x`` is updated in place and returned, within
+    the input's range.
     """
     import cv2
 
     from .. import _wls
 
-    flat = _wls.smooth(resize(m.filled, solver.shape, cv2.INTER_LINEAR), solver.flat_x, solver.flat_y,
-                       p.flat_lambda_lr * solver.scale)
+    grid = _coarse(solver, m) or solver
+    flat = _wls.smooth(resize(m.filled, grid.shape, cv2.INTER_LINEAR), grid.flat_x, grid.flat_y,
+                       p.flat_lambda_lr * grid.scale)
     kernel = np.ones((3, 3), np.uint8)
     local_range = cv2.dilate(m.filled, kernel) - cv2.erode(m.filled, kernel)
     edge = np.clip((local_range - EDGE_LOW * m.sigma) / (EDGE_WIDTH * m.sigma + 1e-6 * m.span), 0.0, 1.0)
     edge = cv2.dilate(edge.astype(np.float32), kernel)
-    edge = 1.0 - (1.0 - edge) * noise_share(m.sigma_levels)
-    edge = resize(edge, solver.shape, cv2.INTER_LINEAR)
+    edge = (1.0 - (1.0 - edge) * noise_share(m.sigma_levels)).astype(np.float32)
+    # the two image-sized temporaries in the solver's scratch arrays (free between solves): no more memory
+    flat_full, edge_full = _wls.scratch(solver.shape)
+    if grid is not solver:
+        flat = cv2.resize(flat, solver.shape[::-1], dst=flat_full, interpolation=cv2.INTER_LINEAR)
+    edge = cv2.resize(edge, solver.shape[::-1], dst=edge_full, interpolation=cv2.INTER_LINEAR)
     # x <- edge * x + (1 - edge) * flat, in place
     x -= flat
     x *= edge
