@@ -117,23 +117,10 @@ def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.nd
     luma = cv2.GaussianBlur(luma, (0, 0), GUIDE_BLUR)
     edges = cv2.magnitude(cv2.Sobel(luma, cv2.CV_32F, 1, 0), cv2.Sobel(luma, cv2.CV_32F, 0, 1))
 
-    ys, xs = np.nonzero(band & (magnitude > 0))
-    nx, ny = gx[ys, xs] / magnitude[ys, xs], gy[ys, xs] / magnitude[ys, xs]
-    here = magnitude[ys, xs]
-    ridge = (here >= _sample(magnitude, xs + nx, ys + ny)) & (here >= _sample(magnitude, xs - nx, ys - ny))
-    xs, ys, nx, ny = xs[ridge], ys[ridge], nx[ridge], ny[ridge]
-    reach = math.ceil(SEARCH_RADIUS * scale)
-    steps = np.arange(-reach, reach + 1, dtype=np.float32)
-    profile = _sample(edges, xs[:, None] + steps * nx[:, None], ys[:, None] + steps * ny[:, None])
-    profile /= profile.sum(axis=1, keepdims=True) + 1e-6
-    peak = np.argmax(profile, axis=1)
-    rows = np.arange(peak.size)
-    clear = (peak > 0) & (peak < steps.size - 1) & (profile[rows, peak] > PEAK_RATIO / steps.size)
-    peak, rows = peak[clear], rows[clear]
-    before, top, after = profile[rows, peak - 1], profile[rows, peak], profile[rows, peak + 1]
-    curvature = before - 2.0 * top + after
-    shift = np.where(curvature < 0, 0.5 * (before - after) / np.where(curvature < 0, curvature, -1.0), 0.0)
-    return (steps[peak] + shift) / scale, np.arctan2(ny[clear], nx[clear])
+    from ._offsets import jump_offsets
+
+    offsets, angles = jump_offsets(band, magnitude, gx, gy, edges, math.ceil(SEARCH_RADIUS * scale), PEAK_RATIO)
+    return offsets / scale, angles
 
 
 def thin_fattened(m: InputMeasures, guide: np.ndarray) -> InputMeasures:
@@ -158,16 +145,3 @@ def thin_fattened(m: InputMeasures, guide: np.ndarray) -> InputMeasures:
     filled = resize(thinned, m.depth.shape, cv2.INTER_AREA)
     depth = np.where(m.valid, filled, np.nan).astype(np.float32)
     return dataclasses.replace(m, depth=depth, filled=filled, jump=near_jump(filled, m.sigma, m.span))
-
-
-def _sample(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """``image`` at the points ``(x, y)`` (any shape), bilinear, border replicated."""
-    import cv2
-
-    shape, x, y = x.shape, x.astype(np.float32).ravel(), y.astype(np.float32).ravel()
-    cols = 4096                                   # cv2.remap takes at most 32767 columns
-    rows = max(1, -(-x.size // cols))
-    pad = rows * cols - x.size
-    grid_x, grid_y = np.pad(x, (0, pad)).reshape(rows, cols), np.pad(y, (0, pad)).reshape(rows, cols)
-    values = cv2.remap(image, grid_x, grid_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return values.ravel()[:x.size].reshape(shape)
