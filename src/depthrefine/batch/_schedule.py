@@ -6,11 +6,9 @@ task again: a worker lost mid-run has its frames recomputed on another
 worker, with the same bits (the methods are deterministic on any number of
 threads). A lost scheduler ends the run with :class:`ClusterLost`.
 
-Each task caps the kernel threads of its worker process (numba kernels via
-:func:`depthrefine._numba.set_threads`, OpenCV via ``cv2.setNumThreads``) at
-the worker's share of its machine's cores: the cores divided by the Dask
-threads of all workers on that machine, at least 1. Two one-thread workers
-on two cores then run one kernel thread each instead of two each.
+Each task caps the kernel threads of its worker process at the worker's
+share of its machine's cores and keeps glibc's allocator from returning
+every array to the system while it runs (:mod:`._worker`).
 """
 
 from __future__ import annotations
@@ -29,6 +27,7 @@ import numpy as np
 from .._lazy import missing_dependency, missing_dependency_message
 from ..methods.registry import DEFAULT_METHOD, get_method
 from ._frame import FrameOutput, FramePlan, solve_frame
+from ._worker import task_settings, worker_share
 
 __all__ = ["DEFAULT_CHUNK", "ClusterLost", "FrameResult", "refine_many", "run_frames", "local_client",
            "needed_keys"]
@@ -491,7 +490,7 @@ def _solve_chunk(plan: FramePlan, temporal: bool, items: list, share: Mapping[st
     unconfident = dataclasses.replace(plan, confidence=False, min_confidence=None)
     state = None
     rows = []
-    with _kernel_threads(_worker_share(share)):
+    with task_settings(worker_share(share)):
         for order, key, depth, rgb, is_wanted in items:
             start = time.perf_counter()
             try:
@@ -508,56 +507,3 @@ def _solve_chunk(plan: FramePlan, temporal: bool, items: list, share: Mapping[st
                 continue
             rows.append((order, key, output if is_wanted else None, time.perf_counter() - start, None, False))
     return rows
-
-
-def _worker_share(share: Mapping[str, int]) -> int:
-    """This worker's share of its machine's cores: the cores over the Dask threads on the machine, at least 1."""
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    try:
-        from distributed import get_worker
-        from distributed.comm import get_address_host
-
-        worker = get_worker()
-        threads = share.get(get_address_host(worker.address), worker.state.nthreads)
-    except (ImportError, ValueError, AttributeError):  # not on a worker (called directly)
-        return cores
-    return max(1, cores // max(1, threads))
-
-
-#: Tasks inside :func:`_kernel_threads` in this process, and the caps before the first one entered.
-_caps_lock = threading.Lock()
-_caps_users = 0
-_caps_before: tuple[Any, Any] = (None, None)
-
-
-@contextlib.contextmanager
-def _kernel_threads(count: int) -> Iterator[None]:
-    """Cap numba's and OpenCV's threads in this process at ``count`` while any task runs; then restore them.
-
-    Counted, so that tasks on several threads of one process (a threaded
-    worker, or workers in the caller's own process) restore the caps only
-    when the last one leaves.
-    """
-    global _caps_users, _caps_before
-    import cv2
-
-    try:
-        from .. import _numba
-    except ImportError:  # no numba: the methods that need it say so themselves
-        _numba = None
-    with _caps_lock:
-        if _caps_users == 0:
-            _caps_before = (_numba.set_threads(count) if _numba else None, cv2.getNumThreads())
-        elif _numba:
-            _numba.set_threads(count)
-        cv2.setNumThreads(count)
-        _caps_users += 1
-    try:
-        yield
-    finally:
-        with _caps_lock:
-            _caps_users -= 1
-            if _caps_users == 0:
-                if _numba:
-                    _numba.set_threads(_caps_before[0])
-                cv2.setNumThreads(_caps_before[1])
