@@ -1,23 +1,31 @@
 """Frames per second of ``depthrefine.batch.refine_many`` with 1 and 2 workers and with ``temporal``; flicker.
 
 A generated sequence (``make_sequence``: a disc moving over a static scene,
-fresh depth and color noise per frame, uint16 mm) is refined on Dask
-``LocalCluster``s of 1 and 2 worker processes (one Dask thread each; each
-worker caps its kernel threads at its share of the cores, so 1 worker on 2
-cores runs 2 kernel threads, 2 workers 1 each), and with ``temporal=True``
-(warm start, two chunks of half the frames, one per worker) on 2 workers.
+fresh depth and color noise per frame, uint16 mm) is refined on the local
+clusters ``depthrefine batch --workers 1`` and ``--workers 2`` start
+(``depthrefine.batch.local_client``: worker processes with one Dask thread
+each; each worker caps its kernel threads at its share of the cores, so 1
+worker on 2 cores runs 2 kernel threads, 2 workers 1 each), and with
+``temporal=True`` (warm start, two chunks of half the frames, one per
+worker) on 2 workers.
 Each configuration runs ``--repeats`` times on a cluster that has already
 refined a warm-up batch (imports and first-call costs excluded; the cluster
 start is not timed), the configurations taking turns (1 worker, 2 workers, 2
 workers temporal, then again), so that on a machine shared with other jobs
-each sees the same load; the figures are medians. The load average of the
-machine (``os.getloadavg``) is printed beside them: the ratio of 2 workers
-to 1 is only as good as the free cores. Two reference lines follow: one
+each sees the same load; the figures are medians. Beside them: the CPU
+time per frame of the bench's own process (the Dask client and the local
+scheduler: what ``depthrefine batch`` spends besides the workers, here
+without reading or writing files) and of the workers, steadier than the
+wall time on a shared machine, and the load average of the machine
+(``os.getloadavg``): the ratio of 2 workers to 1 is only as good as the
+free cores. Two reference lines follow: one
 frame refined in the bench's own process with 1 and with 2 kernel threads
 (what a lone worker gains inside a frame from the second core, which bounds
 what a second worker can add), and one-thread processes refining frames in a
 loop without Dask, 1 alone and 2 at once (what the machine gives two
-workers at that moment).
+workers at that moment), started with the environment the bench started
+with (a ``LocalCluster`` leaves Dask's worker variables, among them
+``MALLOC_TRIM_THRESHOLD_``, in its parent's ``os.environ``).
 
 Flicker (``depthrefine.bench.metrics.flicker``: mean absolute frame-to-frame
 change on pixels whose ground truth did not change, in mm) and the mean RMSE
@@ -36,7 +44,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import logging
 import os
 import statistics
 import time
@@ -63,12 +70,20 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
-def _cluster(stack: contextlib.ExitStack, workers: int):
-    from distributed import Client, LocalCluster
+#: The environment the bench started with (starting a LocalCluster adds Dask's worker variables to os.environ).
+_START_ENVIRON = dict(os.environ)
 
-    cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                               host="127.0.0.1", dashboard_address=":0", silence_logs=logging.ERROR))
-    return stack.enter_context(Client(cluster))
+
+def _cluster(stack: contextlib.ExitStack, workers: int):
+    """The local cluster ``depthrefine batch --workers N`` runs on (its client)."""
+    from depthrefine.batch import local_client
+
+    return stack.enter_context(local_client(workers))
+
+
+def _cpu_seconds(processes) -> float:
+    """User + system CPU seconds of ``processes`` (psutil), all their threads."""
+    return sum(sum(p.cpu_times()[:2]) for p in processes)
 
 
 def _refined(pairs, args, client, temporal: bool) -> list[np.ndarray]:
@@ -80,53 +95,72 @@ def _refined(pairs, args, client, temporal: bool) -> list[np.ndarray]:
 
 def speed(pairs, args) -> dict[bool, list[np.ndarray]]:
     """Print the frames per second of each configuration; return the outputs of 2 workers (key: temporal)."""
+    import psutil
+
     configs = (("1 worker", 1, False), ("2 workers", 2, False), ("2 workers --temporal", 2, True))
     times: dict[str, list[float]] = {label: [] for label, _, _ in configs}
     loads: dict[str, list[float]] = {label: [] for label, _, _ in configs}
+    cpu: dict[str, list[tuple[float, float]]] = {label: [] for label, _, _ in configs}  # ms/frame: here, workers
     outputs: dict[str, list] = {}
+    here = [psutil.Process()]
     with contextlib.ExitStack() as stack:
         clients = {workers: _cluster(stack, workers) for workers in (1, 2)}
+        workers_of = {n: [psutil.Process(pid) for pid in client.run(os.getpid).values()] for n, client in clients.items()}
         for workers, client in clients.items():
             _refined(pairs[:4 * workers], args, client, False)  # warm-up: imports, compilation, first calls
         for _ in range(args.repeats):  # the configurations take turns, so that each sees the same load
             for label, workers, temporal in configs:
+                before = _cpu_seconds(here), _cpu_seconds(workers_of[workers])
                 start = time.perf_counter()
                 outputs[label] = _refined(pairs, args, clients[workers], temporal)
                 times[label].append(time.perf_counter() - start)
+                after = _cpu_seconds(here), _cpu_seconds(workers_of[workers])
+                cpu[label].append(tuple(1000 * (b - a) / len(pairs) for a, b in zip(before, after)))
                 loads[label].append(os.getloadavg()[0])
     fps = {}
     for label, _, _ in configs:
         fps[label] = len(pairs) / statistics.median(times[label])
-        print(f"  {label:22s} {fps[label]:7.2f} frames/s   (runs: {', '.join(f'{len(pairs) / t:.2f}' for t in times[label])}; "
+        client_ms, workers_ms = (statistics.median(c[i] for c in cpu[label]) for i in (0, 1))
+        print(f"  {label:22s} {fps[label]:7.2f} frames/s   CPU per frame: {client_ms:4.1f} ms here, "
+              f"{workers_ms:5.1f} ms in the workers   (runs: {', '.join(f'{len(pairs) / t:.2f}' for t in times[label])}; "
               f"1-min load after each: {', '.join(f'{v:.1f}' for v in loads[label])})", flush=True)
     print(f"  2 workers / 1 worker: {fps['2 workers'] / fps['1 worker']:.2f}x;  temporal / independent (2 workers): "
           f"{fps['2 workers --temporal'] / fps['2 workers']:.2f}x")
     one, two = (_frame_ms(pairs, args, threads) for threads in (1, 2))
     print(f"  one frame in this process: {one:.1f} ms with 1 kernel thread, {two:.1f} ms with 2 ({one / two:.2f}x; "
           f"what 1 worker on 2 cores gains inside a frame, the most 2 workers can gain over it is {2 * two / one:.2f}x)")
-    alone, pair = (_processes_rate(args, n) for n in (1, 2))
-    print(f"  without Dask, one-thread processes refining frames in a loop: 1 process {alone:.2f} frames/s, 2 at once "
-          f"{pair:.2f} frames/s ({pair / alone:.2f}x: what this machine gives 2 workers now)")
+    (alone, alone_ms), (pair, pair_ms) = (_processes_rate(args, n) for n in (1, 2))
+    print(f"  without Dask, one-thread processes refining frames in a loop: 1 process {alone:.2f} frames/s "
+          f"({alone_ms:.1f} ms CPU per frame), 2 at once {pair:.2f} frames/s ({pair_ms:.1f} ms) "
+          f"({pair / alone:.2f}x: what this machine gives 2 workers now)")
     return {False: outputs["2 workers"], True: outputs["2 workers --temporal"]}
 
 
-def _processes_rate(args, processes: int, seconds: float = 5.0) -> float:
-    """Frames per second of ``processes`` one-thread processes refining frames at once, in total."""
+def _processes_rate(args, processes: int, seconds: float = 5.0) -> tuple[float, float]:
+    """Frames per second of ``processes`` one-thread processes refining frames at once, in total, and their
+    median CPU milliseconds per frame."""
     import multiprocessing
 
     ctx = multiprocessing.get_context("spawn")
     queue, start = ctx.Queue(), ctx.Event()
     workers = [ctx.Process(target=_refine_loop, args=(args.method, args.size, args.scale, seconds, queue, start))
                for _ in range(processes)]
-    for w in workers:
-        w.start()
+    environ = dict(os.environ)
+    os.environ.clear()
+    os.environ.update(_START_ENVIRON)  # as the bench started: without what a LocalCluster left in os.environ
+    try:
+        for w in workers:
+            w.start()
+    finally:
+        os.environ.clear()
+        os.environ.update(environ)
     for _ in workers:
         queue.get()  # ready: imported, compiled, warmed up
     start.set()
-    rate = sum(queue.get() for _ in workers)
+    results = [queue.get() for _ in workers]
     for w in workers:
         w.join()
-    return rate
+    return sum(rate for rate, _ in results), statistics.median(ms for _, ms in results)
 
 
 def _refine_loop(method: str, size: str, scale: int, seconds: float, queue, start) -> None:
@@ -143,12 +177,12 @@ def _refine_loop(method: str, size: str, scale: int, seconds: float, queue, star
     refine(frames[0].depth_lr, frames[0].rgb_hr, method=method)
     queue.put("ready")
     start.wait()
-    begin, done = time.perf_counter(), 0
+    begin, cpu, done = time.perf_counter(), time.process_time(), 0
     while time.perf_counter() - begin < seconds:
         frame = frames[done % len(frames)]
         refine(frame.depth_lr, frame.rgb_hr, method=method)
         done += 1
-    queue.put(done / (time.perf_counter() - begin))
+    queue.put((done / (time.perf_counter() - begin), 1000 * (time.process_time() - cpu) / done))
 
 
 def _frame_ms(pairs, args, threads: int, runs: int = 10) -> float:

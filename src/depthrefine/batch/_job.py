@@ -428,7 +428,7 @@ class BatchJob:
                 progress(0, len(to_run))
             for result in run_frames(self._tasks(need, loaded, writer), plan=self.plan, client=client,
                                      temporal=options.temporal, chunk=options.chunk, want=want,
-                                     frames_per_task=options.frames_per_task):
+                                     frames_per_task=options.frames_per_task, total=len(seq.frames)):
                 writer.settle(result, write=result.key in write)
                 if progress and result.key in write:
                     progress(writer.computed, len(to_run))

@@ -18,7 +18,7 @@ import dataclasses
 import os
 import threading
 import time
-from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping, Sized
 from dataclasses import dataclass
 from typing import Any
 
@@ -43,6 +43,11 @@ _WORKER_WAIT = 30
 TASK_PIXELS = 1 << 20
 #: ... and at most this many (each task costs Dask a few milliseconds; small frames share one).
 MAX_FRAMES_PER_TASK = 8
+
+
+#: Dask settings of the local cluster: its servers' event-loop watchdog (a callback that only measures the
+#: loop's latency, for warnings this module silences and for the dashboard) every second, not every 20 ms.
+LOCAL_CLUSTER_CONFIG = {"distributed.admin.tick.interval": "1s"}
 
 
 class ClusterLost(RuntimeError):
@@ -99,7 +104,9 @@ def refine_many(
     ----------
     pairs : mapping or iterable
         ``{key: (depth_lr, rgb_hr)}``, or an iterable of ``(key, depth_lr,
-        rgb_hr)``; consumed lazily (a few frames per worker ahead).
+        rgb_hr)``; consumed lazily (a few frames per worker ahead). With a
+        length (a mapping, a list), the last tasks are smaller, so that the
+        workers finish together (:func:`run_frames`, ``total``).
     method, params
         As for :func:`depthrefine.refine`.
     client : dask.distributed.Client, optional
@@ -141,7 +148,8 @@ def refine_many(
     with contextlib.ExitStack() as stack:
         if client is None:
             client = stack.enter_context(local_client(workers))
-        for result in run_frames(tasks, plan=plan, client=client, temporal=temporal, chunk=chunk):
+        total = len(pairs) if isinstance(pairs, Sized) else None
+        for result in run_frames(tasks, plan=plan, client=client, temporal=temporal, chunk=chunk, total=total):
             if result.error is not None:
                 kind = ValueError if result.bad_input else RuntimeError
                 raise kind(f"frame {result.key!r}: {result.error}")
@@ -187,11 +195,15 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
                 return
             import logging
 
+            import dask
+
             n = workers or os.cpu_count() or 1
-            with _sigint_ignored():  # the workers ignore Ctrl-C (this process stops them): no tracebacks of theirs
+            # the workers ignore Ctrl-C (this process stops them): no tracebacks of theirs
+            with _sigint_ignored(), dask.config.set(LOCAL_CLUSTER_CONFIG):
                 cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
                                        dashboard_address=":0", silence_logs=logging.ERROR)
-            with _closing(cluster, silence), _closing(Client(cluster), silence) as client:
+            # results come straight from the worker, not through the scheduler (which runs in this process)
+            with _closing(cluster, silence), _closing(Client(cluster, direct_to_workers=True), silence) as client:
                 yield client
         except BaseException:
             silence()  # what Dask logs while it is torn down after an error is not the user's news
@@ -283,6 +295,7 @@ def run_frames(
     want: Callable[[Hashable], bool] | None = None,
     ahead: int | None = None,
     frames_per_task: int | None = None,
+    total: int | None = None,
 ) -> Iterator[FrameResult]:
     """Run frames on ``client``; yield one :class:`FrameResult` per frame, in input order.
 
@@ -310,7 +323,12 @@ def run_frames(
         (each refined on its own). Default: one for the first task, then as
         many as hold about :data:`TASK_PIXELS` color pixels of the first
         frame's size, at most :data:`MAX_FRAMES_PER_TASK` (small frames share
-        a task, so that Dask's cost per task stays small beside the work).
+        a task, so that Dask's cost per task stays small beside the work);
+        with ``total``, toward the end at most the frames left over twice the
+        workers' Dask threads, so that the last tasks are small and the
+        workers finish together.
+    total : int, optional
+        The number of ``tasks``, if known (see ``frames_per_task``).
 
     Raises
     ------
@@ -321,15 +339,17 @@ def run_frames(
 
     size = [max(1, int(chunk)) if temporal else (frames_per_task or 1)]  # frames of the next task
     threads = _check_running(client, client.nthreads)
+    slots = max(1, sum(threads.values()))
     if ahead is None:
-        ahead = 2 * max(1, sum(threads.values()))
+        ahead = 2 * slots
     share = _host_threads(threads)
     want = want or (lambda key: True)
     groups = _chunks(iter(tasks), size)
     pending: dict[Any, tuple[int, list[tuple[int, Hashable]]]] = {}  # future -> (chunk number, its frames)
     known: dict[int, list[tuple[int, FrameResult]]] = {}   # results settled before sending
     done: dict[int, list[tuple[int, FrameResult]]] = {}    # chunks finished, not yet yielded
-    next_submit = next_yield = 0
+    next_submit = next_yield = submitted = 0
+    largest = size[0]  # frames per task before the end
     exhausted = False
     try:
         while True:
@@ -339,8 +359,11 @@ def run_frames(
                     exhausted = True
                     break
                 settled, future, frames, pixels = _submit(client, group, plan, temporal, want, share)
-                if pixels and not temporal and frames_per_task is None:
-                    size[0] = max(1, min(MAX_FRAMES_PER_TASK, TASK_PIXELS // pixels))
+                submitted += len(group)
+                if not temporal and frames_per_task is None:
+                    if pixels:
+                        largest = max(1, min(MAX_FRAMES_PER_TASK, TASK_PIXELS // pixels))
+                    size[0] = largest if total is None else _task_size(largest, total - submitted, slots)
                 if future is None:
                     done[next_submit] = settled
                 else:
@@ -363,6 +386,21 @@ def run_frames(
         if pending and client.status == "running":
             with contextlib.suppress(Exception):
                 client.cancel(list(pending))
+
+
+def _task_size(largest: int, left: int, slots: int) -> int:
+    """Frames of the next task: ``largest``, but at most the ``left`` frames over twice the ``slots``, at least 1.
+
+    Each of the workers' ``slots`` threads holds about two tasks at once
+    (one running, one queued); toward the end tasks get smaller, so that no
+    worker finishes long after the others.
+
+    Examples
+    --------
+    >>> [_task_size(8, left, 2) for left in (47, 39, 31, 23, 17, 12, 9, 6, 3, 1)]
+    [8, 8, 8, 6, 5, 3, 3, 2, 1, 1]
+    """
+    return max(1, min(largest, -(-left // (2 * slots))))
 
 
 def _check_running(client: Any, call: Callable, *args, **kwargs) -> Any:
