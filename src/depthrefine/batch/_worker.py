@@ -28,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import os
 import threading
+import time
 from collections.abc import Iterator, Mapping
 from typing import Any
 
@@ -117,11 +118,14 @@ ALLOCATOR_IDLE = 2.0
 
 #: Tasks inside :func:`task_settings` in this process, and what to restore when the last one leaves.
 _lock = threading.Lock()
+_idle = threading.Condition(_lock)
 _users = 0
 _before: dict[str, Any] = {}
-#: The raised allocator thresholds (mallopt, values to restore), and the timer that restores them.
+#: The raised allocator thresholds (mallopt, values to restore), when the last task ended, the thread that
+#: restores them (its process id: a forked child starts its own).
 _raised: tuple[Any, tuple[int, int]] | None = None
-_restore_timer: threading.Timer | None = None
+_ended = 0.0
+_restorer_pid: int | None = None
 
 
 @contextlib.contextmanager
@@ -135,7 +139,7 @@ def task_settings(threads: int) -> Iterator[None]:
     task (restored after each task, the heap a task leaves would go back to
     the system before the next task, which would fault it in again).
     """
-    global _users, _raised, _restore_timer
+    global _users, _raised, _ended
     import cv2
 
     try:
@@ -147,11 +151,10 @@ def task_settings(threads: int) -> Iterator[None]:
             _before.clear()
             _before["numba"] = _numba.set_threads(threads) if _numba else None
             _before["cv2"] = cv2.getNumThreads()
-            if _restore_timer is not None:  # still raised from the previous task
-                _restore_timer.cancel()
-                _restore_timer = None
-            else:
+            if _raised is None:
                 _raised = _raise_thresholds()
+                if _raised is not None:
+                    _start_restorer()
         elif _numba:
             _numba.set_threads(threads)
         cv2.setNumThreads(threads)
@@ -165,19 +168,32 @@ def task_settings(threads: int) -> Iterator[None]:
                 if _numba:
                     _numba.set_threads(_before["numba"])
                 cv2.setNumThreads(_before["cv2"])
-                if _raised is not None:
-                    _restore_timer = threading.Timer(ALLOCATOR_IDLE, _restore_when_idle)
-                    _restore_timer.daemon = True
-                    _restore_timer.start()
+                _ended = time.monotonic()
+                _idle.notify_all()
+
+
+def _start_restorer() -> None:
+    """Start this process's thread that restores the allocator's thresholds when tasks stop (under ``_lock``)."""
+    global _restorer_pid
+    if _restorer_pid != os.getpid():
+        _restorer_pid = os.getpid()
+        threading.Thread(target=_restore_when_idle, name="depthrefine-allocator", daemon=True).start()
 
 
 def _restore_when_idle() -> None:
-    """The timer's end: the process's own thresholds, unless a task came meanwhile (it cancelled this timer)."""
-    global _raised, _restore_timer
+    """Forever: once no task has run for :data:`ALLOCATOR_IDLE` seconds, the process's own thresholds."""
+    global _raised
     with _lock:
-        if _users == 0 and _restore_timer is threading.current_thread():
+        while True:
+            if _raised is None or _users:
+                _idle.wait()
+                continue
+            left = _ended + ALLOCATOR_IDLE - time.monotonic()
+            if left > 0:
+                _idle.wait(left)
+                continue
             _restore_thresholds(_raised)
-            _raised = _restore_timer = None
+            _raised = None
 
 
 def _start_environment() -> dict[str, str]:
