@@ -20,10 +20,13 @@ wall time on a shared machine, and the load average of the machine
 (``os.getloadavg``): the ratio of 2 workers to 1 is only as good as the
 free cores. Two reference lines follow: one
 frame refined in the bench's own process with 1 and with 2 kernel threads
-(what a lone worker gains inside a frame from the second core, which bounds
-what a second worker can add), and one-thread processes refining frames in a
+(what a lone worker gains inside a frame from the second core: were the
+lone worker as fast as this process, a second worker could add at most
+2 / that gain; it is slower, see docs/batch.md), and one-thread processes
+refining frames in a
 loop without Dask, 1 alone and 2 at once (what the machine gives two
-workers at that moment), started with the environment the bench started
+workers at that moment; the last line sets the batch's rates against
+these), started with the environment the bench started
 with (a ``LocalCluster`` leaves Dask's worker variables, among them
 ``MALLOC_TRIM_THRESHOLD_``, in its parent's ``os.environ``).
 
@@ -34,16 +37,23 @@ with ``temporal``, on the timed sequence (ToF-like depth noise of 10 mm, new
 in every frame, which no warm start can remove) and on the same sequence
 without depth noise.
 
+``--overheads`` prints only what docs/batch.md ("Parallel") says a worker's
+allocator and an idle local cluster cost: one frame's CPU in a one-thread
+process started as usual and with ``MALLOC_TRIM_THRESHOLD_=65536`` (as Dask
+starts its workers), and the CPU per second of an idle local cluster of 2
+workers with Dask's defaults and as ``local_client`` starts it.
+
 Usage::
 
     python benchmarks/bench_batch.py [--frames 48] [--size 240x320] [--scale 4] [--repeats 5] [--method gbp]
-                                     [--no-flicker | --no-speed]
+                                     [--no-flicker | --no-speed | --overheads]
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import logging
 import os
 import statistics
 import time
@@ -67,6 +77,8 @@ def _parser() -> argparse.ArgumentParser:
     only = ap.add_mutually_exclusive_group()
     only.add_argument("--no-flicker", action="store_true", help="only the frames per second")
     only.add_argument("--no-speed", action="store_true", help="only the flicker table (no timing)")
+    only.add_argument("--overheads", action="store_true",
+                      help="only what a worker's allocator and an idle local cluster cost (docs/batch.md, Parallel)")
     return ap
 
 
@@ -127,18 +139,21 @@ def speed(pairs, args) -> dict[bool, list[np.ndarray]]:
     print(f"  2 workers / 1 worker: {fps['2 workers'] / fps['1 worker']:.2f}x;  temporal / independent (2 workers): "
           f"{fps['2 workers --temporal'] / fps['2 workers']:.2f}x")
     one, two = (_frame_ms(pairs, args, threads) for threads in (1, 2))
-    print(f"  one frame in this process: {one:.1f} ms with 1 kernel thread, {two:.1f} ms with 2 ({one / two:.2f}x; "
-          f"what 1 worker on 2 cores gains inside a frame, the most 2 workers can gain over it is {2 * two / one:.2f}x)")
-    (alone, alone_ms), (pair, pair_ms) = (_processes_rate(args, n) for n in (1, 2))
+    print(f"  one frame in this process: {one:.1f} ms with 1 kernel thread, {two:.1f} ms with 2 ({one / two:.2f}x: "
+          f"what 1 worker on 2 cores gains inside a frame; were it as fast as this process, 2 workers could gain "
+          f"at most {2 * two / one:.2f}x over it)")
+    (alone, alone_ms, _), (pair, pair_ms, _) = (_processes_rate(args, n) for n in (1, 2))
     print(f"  without Dask, one-thread processes refining frames in a loop: 1 process {alone:.2f} frames/s "
           f"({alone_ms:.1f} ms CPU per frame), 2 at once {pair:.2f} frames/s ({pair_ms:.1f} ms) "
           f"({pair / alone:.2f}x: what this machine gives 2 workers now)")
+    print(f"  the batch against these: 1 worker at {fps['1 worker'] * two / 1000:.0%} of one frame at a time in this "
+          f"process with 2 kernel threads, 2 workers at {fps['2 workers'] / pair:.0%} of 2 plain processes")
     return {False: outputs["2 workers"], True: outputs["2 workers --temporal"]}
 
 
-def _processes_rate(args, processes: int, seconds: float = 5.0) -> tuple[float, float]:
+def _processes_rate(args, processes: int, seconds: float = 5.0, extra_environ: dict | None = None) -> tuple[float, float]:
     """Frames per second of ``processes`` one-thread processes refining frames at once, in total, and their
-    median CPU milliseconds per frame."""
+    median CPU milliseconds per frame (and of that, in the kernel)."""
     import multiprocessing
 
     ctx = multiprocessing.get_context("spawn")
@@ -148,6 +163,7 @@ def _processes_rate(args, processes: int, seconds: float = 5.0) -> tuple[float, 
     environ = dict(os.environ)
     os.environ.clear()
     os.environ.update(_START_ENVIRON)  # as the bench started: without what a LocalCluster left in os.environ
+    os.environ.update(extra_environ or {})
     try:
         for w in workers:
             w.start()
@@ -160,7 +176,8 @@ def _processes_rate(args, processes: int, seconds: float = 5.0) -> tuple[float, 
     results = [queue.get() for _ in workers]
     for w in workers:
         w.join()
-    return sum(rate for rate, _ in results), statistics.median(ms for _, ms in results)
+    return (sum(rate for rate, _, _ in results), statistics.median(ms for _, ms, _ in results),
+            statistics.median(ms for _, _, ms in results))
 
 
 def _refine_loop(method: str, size: str, scale: int, seconds: float, queue, start) -> None:
@@ -177,12 +194,14 @@ def _refine_loop(method: str, size: str, scale: int, seconds: float, queue, star
     refine(frames[0].depth_lr, frames[0].rgb_hr, method=method)
     queue.put("ready")
     start.wait()
-    begin, cpu, done = time.perf_counter(), time.process_time(), 0
+    begin, cpu, done = time.perf_counter(), os.times(), 0
     while time.perf_counter() - begin < seconds:
         frame = frames[done % len(frames)]
         refine(frame.depth_lr, frame.rgb_hr, method=method)
         done += 1
-    queue.put((done / (time.perf_counter() - begin), 1000 * (time.process_time() - cpu) / done))
+    end = os.times()
+    queue.put((done / (time.perf_counter() - begin), 1000 * (end.user + end.system - cpu.user - cpu.system) / done,
+               1000 * (end.system - cpu.system) / done))
 
 
 def _frame_ms(pairs, args, threads: int, runs: int = 10) -> float:
@@ -219,10 +238,50 @@ def flicker_table(sequences, outputs) -> None:
                   f"{flicker(outputs[name][temporal], truth):7.3f} mm   mean RMSE {mean_rmse:7.2f} mm")
 
 
+def overheads(args) -> None:
+    """Print one frame's CPU in a one-thread process started as Dask starts its workers (MALLOC_TRIM_THRESHOLD_)
+    and as usual, and the idle CPU per second of a local cluster of 2 workers with Dask's defaults and as
+    ``local_client`` starts it."""
+    for label, extra in (("as usual", None), ("with MALLOC_TRIM_THRESHOLD_=65536", {"MALLOC_TRIM_THRESHOLD_": "65536"})):
+        _, cpu, system = _processes_rate(args, 1, extra_environ=extra)
+        print(f"  one frame in a one-thread process started {label}: {cpu:.1f} ms CPU, {system:.1f} ms of it in the "
+              "kernel", flush=True)
+    import psutil
+    from distributed import Client, LocalCluster
+
+    from depthrefine.batch import local_client
+
+    def dask_defaults():
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address=":0", silence_logs=logging.ERROR)
+        return contextlib.closing(cluster), Client(cluster)
+
+    for label in ("Dask's defaults", "local_client"):
+        with contextlib.ExitStack() as stack:
+            if label == "local_client":
+                client = stack.enter_context(local_client(2))
+            else:
+                closing, client = dask_defaults()
+                stack.enter_context(closing)
+                stack.enter_context(client)
+            here, workers = psutil.Process(), [psutil.Process(p) for p in client.run(os.getpid).values()]
+            time.sleep(3)
+            before = [_cpu_seconds([p]) for p in [here, *workers]]
+            time.sleep(10)
+            per_second = [100 * (_cpu_seconds([p]) - b) for p, b in zip([here, *workers], before)]
+        print(f"  an idle local cluster of 2 workers ({label}): {per_second[0]:.0f} ms CPU per second in this process "
+              f"(client, scheduler, nannies), {', '.join(f'{v:.0f}' for v in per_second[1:])} in the workers",
+              flush=True)
+
+
 def main() -> None:
     from depthrefine.bench.synthetic import make_sequence
 
     args = _parser().parse_args()
+    if args.overheads:
+        print(f"color {args.size}, method {args.method}; {_load()}")
+        overheads(args)
+        return
     rows, cols = (int(v) for v in args.size.lower().split("x"))
     sequences = {"depth noise 10 mm": make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0),
                  "no depth noise": make_sequence(args.frames, (rows, cols), args.scale, seed=3, color_noise_std=8.0,

@@ -47,8 +47,8 @@ MAX_FRAMES_PER_TASK = 8
 
 #: Dask settings of the local cluster, which serve only Dask's dashboard and its warnings (silenced here): the
 #: servers' event-loop watchdog every second instead of every 20 ms, and no statistical profiler on the
-#: workers (it walked the task thread's stack every 10 ms). Idle: 35 -> 12 ms CPU per second in this process
-#: (scheduler, client, nannies), 25 -> 8 in each worker.
+#: workers (it walked the task thread's stack every 10 ms). Idle: 24 -> 14 ms CPU per second in this process
+#: (scheduler, client, nannies), 18-20 -> 6-7 in each worker (``benchmarks/bench_batch.py --overheads``).
 LOCAL_CLUSTER_CONFIG = {"distributed.admin.tick.interval": "1s", "distributed.worker.profile.enabled": False}
 
 

@@ -10,8 +10,8 @@
   so that freed memory goes back to the system at once). Any such variable
   turns off glibc's dynamic thresholds, so every array above 128 KiB is a
   fresh ``mmap`` whose pages fault in, zero-filled, on first touch, and go
-  back at ``free``: a 640x480 ``gbp`` frame then cost 94 instead of 50 ms of
-  CPU, a third of it in the kernel. While a task runs, arrays up to 32 MiB
+  back at ``free``: a 640x480 ``gbp`` frame then cost 80 instead of 48 ms of
+  CPU, 28 ms of it in the kernel (``benchmarks/bench_batch.py --overheads``). While a task runs, arrays up to 32 MiB
   come from the heap and stay there for the next frame (``mallopt``:
   ``M_MMAP_THRESHOLD`` 32 MiB, ``M_TRIM_THRESHOLD`` 64 MiB, what glibc's
   dynamic rule reaches by itself); the process's own values come back two
