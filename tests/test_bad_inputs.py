@@ -468,16 +468,16 @@ def test_interrupt_exit_130_nothing_written(tmp_path, capsys, monkeypatch):
 
 def test_disk_full_while_writing_exit_2_nothing_left(tmp_path, capsys, monkeypatch):
     ws = Workspace(tmp_path)
-    real_imwrite = cv2.imwrite
+    real_write_bytes = Path.write_bytes
 
-    def full_disk(path, image, *args):
-        Path(path).write_bytes(b"partial")  # the writer got halfway
+    def full_disk(path, data):
+        real_write_bytes(path, b"partial")  # the encoded file got halfway to the disk
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(cv2, "imwrite", full_disk)
     before = _snapshot(tmp_path)
+    monkeypatch.setattr(Path, "write_bytes", full_disk)
     code, err = _run(ws.refine(), capsys)
-    monkeypatch.setattr(cv2, "imwrite", real_imwrite)
+    monkeypatch.setattr(Path, "write_bytes", real_write_bytes)
     assert code == 2 and "No space left on device" in err and "Traceback" not in err
     assert _snapshot(tmp_path) == before
 

@@ -99,6 +99,28 @@ def test_refine_many_takes_a_mapping(cluster, frames):
     assert all(np.array_equal(got[i], refine(*pairs[i], method="bilinear")) for i in pairs)
 
 
+def test_small_frames_share_tasks_and_the_last_tasks_of_a_known_length_are_smaller(cluster, monkeypatch):
+    """Two one-thread workers; tasks of at most 8 frames (TASK_PIXELS over the frame's pixels)."""
+    from depthrefine.batch import _schedule
+
+    sizes = []
+    submit = _schedule._submit
+
+    def counting(client, group, *args):
+        sizes.append(len(group))
+        return submit(client, group, *args)
+
+    monkeypatch.setattr(_schedule, "_submit", counting)
+    monkeypatch.setattr(_schedule, "TASK_PIXELS", 8 * 32 * 32)
+    pairs = [(i, np.full((8, 8), 100 + i, np.uint16), np.zeros((32, 32, 3), np.uint8)) for i in range(48)]
+    got = list(refine_many(pairs, method="nearest", client=cluster))
+    assert [(k, float(d[0, 0])) for k, d in got] == [(i, 100.0 + i) for i in range(48)]
+    assert sizes == [1, 8, 8, 8, 6, 5, 3, 3, 2, 1, 1, 1, 1]  # the first one frame: its size sets the rest
+    sizes.clear()
+    assert len(list(refine_many(iter(pairs), method="nearest", client=cluster))) == 48  # no length
+    assert sizes == [1, 8, 8, 8, 8, 8, 7]
+
+
 def test_temporal_warm_start_equals_the_sequential_loop_chunk_by_chunk(cluster, frames):
     pairs = [(i, f.depth_lr, f.rgb_hr) for i, f in enumerate(frames)]
     got = dict(refine_many(pairs, method="thesis", params=PARAMS, client=cluster, temporal=True, chunk=4))

@@ -121,6 +121,33 @@ def test_a_job_writes_every_frame_and_a_second_job_resumes_it(client, frames, tm
     assert record["complete"] and record["counts"] == {"done": 5} and record["unpaired"] == []
 
 
+def test_the_worker_sends_back_the_files_bytes_as_the_writers_write_them(client, frames, tmp_path):
+    """The frame's files are encoded on the worker (the results are their bytes, not float32 arrays)."""
+    from depthrefine.batch import run_frames
+    from depthrefine.io import write_confidence
+
+    f = frames[0]
+    plan = FramePlan(get_method("gbp"), confidence=True)
+    suffixes = {"depth": ".png", "confidence": ".png"}
+    [result] = run_frames([("0000", lambda: (f.depth_lr, f.rgb_hr, suffixes))], plan=plan, client=client)
+    assert result.output.depth_hr is None and result.output.confidence is None
+    want, _ = solve_frame(plan, f.depth_lr, f.rgb_hr)
+    write_depth(tmp_path / "d.png", want.depth_hr, dtype=np.uint16)
+    write_confidence(tmp_path / "c.png", want.confidence)
+    assert result.output.files == {"depth": (tmp_path / "d.png").read_bytes(),
+                                   "confidence": (tmp_path / "c.png").read_bytes()}
+
+
+def test_a_depth_the_output_type_cannot_hold_fails_its_frame_as_bad_input(client, frames, tmp_path):
+    src = write_folder(tmp_path / "seq", [(f.depth_lr, f.rgb_hr) for f in frames[:2]])
+    options = BatchOptions(method="nearest", output_scale=1000.0, output_dtype="uint16")  # mm x 1000: over 65535
+    summary = BatchJob(open_sequence(src), tmp_path / "out", options).run(client)
+    assert summary.exit_status == 2 and [k for k, _, bad in summary.failed if bad] == ["0000", "0001"]
+    assert "output scale 1000, dtype uint16: depth x 1000 reaches" in summary.failed[0][1]
+    on_disk, done = counts_on_disk(tmp_path / "out")
+    assert on_disk == done == set()
+
+
 def test_an_interrupt_leaves_the_record_true_to_the_files_and_the_job_resumes(client, frames, tmp_path):
     src = write_folder(tmp_path / "seq", [(f.depth_lr, f.rgb_hr) for f in frames])
     out = tmp_path / "out"

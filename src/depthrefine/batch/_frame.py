@@ -2,7 +2,10 @@
 
 A :class:`FramePlan` travels with every task; :func:`solve_frame` is a pure
 function of the plan and the frame's arrays, so a frame that a lost worker
-did not finish gives the same bits on any other worker.
+did not finish gives the same bits on any other worker. For a batch job the
+worker also encodes the frame's files (:func:`encode_files`): the command's
+process, one for the whole cluster, only writes their bytes, and a 640x480
+16-bit PNG comes back as about 0.2 MB instead of 1.2 MB of float32.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from .._validate import as_depth
 from ..methods.confidence import apply_min_confidence, confidence_of, confidence_on_grid, method_with_confidence
 from ..methods.registry import Method, check_call
 
-__all__ = ["FramePlan", "FrameOutput", "solve_frame"]
+__all__ = ["FramePlan", "FrameOutput", "solve_frame", "encode_files"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +60,10 @@ class FramePlan:
     min_confidence : float, optional
         NaN (no measurement) in the depth where the confidence is below it
         (needs ``confidence``).
+    output_scale, output_dtype
+        The depth file holds ``depth * output_scale`` as ``output_dtype``
+        (:func:`depthrefine.io.output_values`; default: the depth as
+        refined, in the input depth's dtype), for :func:`encode_files`.
     """
 
     method: Method
@@ -70,6 +77,8 @@ class FramePlan:
     preview: bool = False
     confidence: bool = False
     min_confidence: float | None = None
+    output_scale: float | None = None
+    output_dtype: str | None = None
 
     def __post_init__(self) -> None:
         if self.points and self.rig is None:
@@ -84,8 +93,9 @@ class FrameOutput:
 
     Attributes
     ----------
-    depth_hr : (H, W) float32 ndarray
-        The refined depth, input units, NaN = no measurement.
+    depth_hr : (H, W) float32 ndarray or None
+        The refined depth, input units, NaN = no measurement (``None`` once
+        :func:`encode_files` made the file, unless ``plan.preview``).
     rgb_hr : (H, W, 3) ndarray or None
         The color image it lies on (``plan.color`` or ``plan.preview``).
     depth_lr : ndarray or None
@@ -96,15 +106,21 @@ class FrameOutput:
         What the chain did (with a rig), one line each.
     confidence : (H, W) float32 ndarray or None
         The confidence map in [0, 1] on ``depth_hr``'s grid (``plan.confidence``).
+    files : dict or None
+        The frame's files as bytes by kind (``"depth"``, ``"color"``,
+        ``"ply"``, ``"confidence"``), made by :func:`encode_files`; the
+        arrays they were made of are then dropped (``depth_hr`` too, unless
+        ``plan.preview`` needs it).
     """
 
-    depth_hr: np.ndarray
+    depth_hr: np.ndarray | None
     rgb_hr: np.ndarray | None = None
     depth_lr: np.ndarray | None = None
     points: np.ndarray | None = None
     colors: np.ndarray | None = None
     notes: tuple[str, ...] = field(default=())
     confidence: np.ndarray | None = None
+    files: dict[str, bytes] | None = None
 
 
 def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any = None, *,
@@ -176,3 +192,54 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
                                                  inverse_scale=align.inverse_scale, stride=plan.stride)
     return out, state
 
+
+
+def encode_files(plan: FramePlan, output: FrameOutput, suffixes: dict[str, str], *, input_dtype: Any,
+                 key: Any) -> FrameOutput:
+    """``output`` with its files encoded (``output.files``: bytes by kind) and the arrays only they needed dropped.
+
+    ``suffixes`` names the files by kind (``{"depth": ".png", "color":
+    ".png", "ply": ".ply", "confidence": ".tif"}``); the bytes are those
+    :func:`depthrefine.io.write_depth`, ``write_rgb``, ``write_ply`` and
+    ``write_confidence`` write. The depth file holds the depth in
+    ``input_dtype`` (the frame's depth as read) or as ``plan.output_scale``
+    and ``plan.output_dtype`` say.
+
+    Raises
+    ------
+    ValueError
+        The output type cannot hold the depth (``output_scale``/``output_dtype``).
+
+    Examples
+    --------
+    >>> from depthrefine.methods.registry import get_method
+    >>> plan = FramePlan(get_method("nearest"))
+    >>> out, _ = solve_frame(plan, np.full((2, 2), 5, np.uint16), np.zeros((4, 4, 3), np.uint8))
+    >>> out = encode_files(plan, out, {"depth": ".png"}, input_dtype=np.uint16, key="0001")
+    >>> out.files["depth"][1:4], out.depth_hr is None
+    (b'PNG', True)
+    """
+    from ..io import encode_confidence, encode_depth, encode_ply, encode_rgb, output_values
+
+    files: dict[str, bytes] = {}
+    if "depth" in suffixes:
+        try:
+            values, dtype = output_values(output.depth_hr, input_dtype, scale=plan.output_scale,
+                                          dtype=plan.output_dtype)
+        except ValueError as exc:
+            raise ValueError(f"output scale {plan.output_scale or 1:g}, dtype {plan.output_dtype}: {exc}") from None
+        files["depth"] = encode_depth(values, suffixes["depth"], dtype=dtype)
+    if "color" in suffixes:
+        from ..viz import to_rgb8
+
+        rgb = output.rgb_hr if output.rgb_hr.dtype in (np.uint8, np.uint16) else to_rgb8(output.rgb_hr)
+        files["color"] = encode_rgb(rgb, suffixes["color"])
+    if "ply" in suffixes:
+        files["ply"] = encode_ply(output.points, output.colors,
+                                  comments=(f"depthrefine batch frame {key}",
+                                            "metres, color camera frame: X right, Y down, Z forward"))
+    if "confidence" in suffixes:
+        files["confidence"] = encode_confidence(output.confidence, suffixes["confidence"])
+    keep = plan.preview  # the preview video is made where the files are written
+    return FrameOutput(output.depth_hr if keep else None, rgb_hr=output.rgb_hr if keep else None,
+                       depth_lr=output.depth_lr if keep else None, notes=output.notes, files=files)

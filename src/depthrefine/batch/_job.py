@@ -263,7 +263,8 @@ class BatchJob:
                               color=options.save_color, points=options.ply, stride=options.ply_stride,
                               preview=options.video is not None,
                               confidence=options.confidence is not None or options.min_confidence is not None,
-                              min_confidence=options.min_confidence)
+                              min_confidence=options.min_confidence, output_scale=options.output_scale,
+                              output_dtype=options.output_dtype)
         self._rig_source = rig_source
         self.video_path = None
         self.outputs = {f.key: self._frame_outputs(f) for f in sequence.frames}
@@ -426,9 +427,9 @@ class BatchJob:
             loaded = seq.load([f for f in seq.frames if f.key in need], saturated_invalid=options.saturated_invalid)
             if progress:
                 progress(0, len(to_run))
-            for result in run_frames(self._tasks(need, loaded, writer), plan=self.plan, client=client,
+            for result in run_frames(self._tasks(need, loaded), plan=self.plan, client=client,
                                      temporal=options.temporal, chunk=options.chunk, want=want,
-                                     frames_per_task=options.frames_per_task):
+                                     frames_per_task=options.frames_per_task, total=len(seq.frames)):
                 writer.settle(result, write=result.key in write)
                 if progress and result.key in write:
                     progress(writer.computed, len(to_run))
@@ -442,7 +443,8 @@ class BatchJob:
         where = f"; {self.outdir / 'batch.json'} lists them" if rows is not None else ""
         return f"{done} of {len(self.sequence.frames)} frames written, each whole{where}"
 
-    def _tasks(self, need, loaded, writer):
+    def _tasks(self, need, loaded):
+        """``(key, loader)`` of every frame; a loader gives ``(depth, rgb, suffixes)``: the worker encodes the files."""
         from ..io import InputFileError
 
         for frame in self.sequence.frames:
@@ -455,8 +457,8 @@ class BatchJob:
             if isinstance(data, BaseException):
                 yield frame.key, data
             else:
-                writer.dtypes[frame.key] = data[0].dtype
-                yield frame.key, (lambda value=data: value)
+                suffixes = {kind: path.suffix.lower() for kind, path in self.outputs[frame.key].items()}
+                yield frame.key, (lambda value=(*data, suffixes): value)
 
 
 def _holds(suffix: str, dtype: str) -> bool:

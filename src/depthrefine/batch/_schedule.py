@@ -6,11 +6,9 @@ task again: a worker lost mid-run has its frames recomputed on another
 worker, with the same bits (the methods are deterministic on any number of
 threads). A lost scheduler ends the run with :class:`ClusterLost`.
 
-Each task caps the kernel threads of its worker process (numba kernels via
-:func:`depthrefine._numba.set_threads`, OpenCV via ``cv2.setNumThreads``) at
-the worker's share of its machine's cores: the cores divided by the Dask
-threads of all workers on that machine, at least 1. Two one-thread workers
-on two cores then run one kernel thread each instead of two each.
+Each task caps the kernel threads of its worker process at the worker's
+share of its machine's cores and keeps glibc's allocator from returning
+every array to the system while it runs (:mod:`._worker`).
 """
 
 from __future__ import annotations
@@ -20,7 +18,7 @@ import dataclasses
 import os
 import threading
 import time
-from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping, Sized
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,7 +26,8 @@ import numpy as np
 
 from .._lazy import missing_dependency, missing_dependency_message
 from ..methods.registry import DEFAULT_METHOD, get_method
-from ._frame import FrameOutput, FramePlan, solve_frame
+from ._frame import FrameOutput, FramePlan, encode_files, solve_frame
+from ._worker import task_settings, worker_share
 
 __all__ = ["DEFAULT_CHUNK", "ClusterLost", "FrameResult", "refine_many", "run_frames", "local_client",
            "needed_keys"]
@@ -44,6 +43,13 @@ _WORKER_WAIT = 30
 TASK_PIXELS = 1 << 20
 #: ... and at most this many (each task costs Dask a few milliseconds; small frames share one).
 MAX_FRAMES_PER_TASK = 8
+
+
+#: Dask settings of the local cluster, which serve only Dask's dashboard and its warnings (silenced here): the
+#: servers' event-loop watchdog every second instead of every 20 ms, and no statistical profiler on the
+#: workers (it walked the task thread's stack every 10 ms). Idle: 24 -> 14 ms CPU per second in this process
+#: (scheduler, client, nannies), 18-20 -> 6-7 in each worker (``benchmarks/bench_batch.py --overheads``).
+LOCAL_CLUSTER_CONFIG = {"distributed.admin.tick.interval": "1s", "distributed.worker.profile.enabled": False}
 
 
 class ClusterLost(RuntimeError):
@@ -100,7 +106,9 @@ def refine_many(
     ----------
     pairs : mapping or iterable
         ``{key: (depth_lr, rgb_hr)}``, or an iterable of ``(key, depth_lr,
-        rgb_hr)``; consumed lazily (a few frames per worker ahead).
+        rgb_hr)``; consumed lazily (a few frames per worker ahead). With a
+        length (a mapping, a list), the last tasks are smaller, so that the
+        workers finish together (:func:`run_frames`, ``total``).
     method, params
         As for :func:`depthrefine.refine`.
     client : dask.distributed.Client, optional
@@ -142,7 +150,8 @@ def refine_many(
     with contextlib.ExitStack() as stack:
         if client is None:
             client = stack.enter_context(local_client(workers))
-        for result in run_frames(tasks, plan=plan, client=client, temporal=temporal, chunk=chunk):
+        total = len(pairs) if isinstance(pairs, Sized) else None
+        for result in run_frames(tasks, plan=plan, client=client, temporal=temporal, chunk=chunk, total=total):
             if result.error is not None:
                 kind = ValueError if result.bad_input else RuntimeError
                 raise kind(f"frame {result.key!r}: {result.error}")
@@ -188,11 +197,15 @@ def local_client(workers: int | None = None, scheduler: str | None = None) -> It
                 return
             import logging
 
+            import dask
+
             n = workers or os.cpu_count() or 1
-            with _sigint_ignored():  # the workers ignore Ctrl-C (this process stops them): no tracebacks of theirs
+            # the workers ignore Ctrl-C (this process stops them): no tracebacks of theirs
+            with _sigint_ignored(), dask.config.set(LOCAL_CLUSTER_CONFIG):
                 cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
                                        dashboard_address=":0", silence_logs=logging.ERROR)
-            with _closing(cluster, silence), _closing(Client(cluster), silence) as client:
+            # results come straight from the worker, not through the scheduler (which runs in this process)
+            with _closing(cluster, silence), _closing(Client(cluster, direct_to_workers=True), silence) as client:
                 yield client
         except BaseException:
             silence()  # what Dask logs while it is torn down after an error is not the user's news
@@ -284,17 +297,20 @@ def run_frames(
     want: Callable[[Hashable], bool] | None = None,
     ahead: int | None = None,
     frames_per_task: int | None = None,
+    total: int | None = None,
 ) -> Iterator[FrameResult]:
     """Run frames on ``client``; yield one :class:`FrameResult` per frame, in input order.
 
     Parameters
     ----------
     tasks : iterable of (key, loader)
-        ``loader()`` returns ``(depth, rgb)``; it runs here, in the caller's
-        process, just before its frame is sent (so files are read a few
-        frames ahead, never all at once). A ``ValueError`` or ``TypeError``
-        it raises (or an exception given instead of a loader) fails that
-        frame as bad input.
+        ``loader()`` returns ``(depth, rgb)``, or ``(depth, rgb, suffixes)``
+        for a frame whose files the worker encodes (:func:`encode_files`:
+        ``{"depth": ".png", ...}``; the result's ``output.files``); it runs
+        here, in the caller's process, just before its frame is sent (so
+        files are read a few frames ahead, never all at once). A
+        ``ValueError`` or ``TypeError`` it raises (or an exception given
+        instead of a loader) fails that frame as bad input.
     plan : FramePlan
         What the workers do with each frame (sent with every task).
     temporal, chunk
@@ -311,7 +327,12 @@ def run_frames(
         (each refined on its own). Default: one for the first task, then as
         many as hold about :data:`TASK_PIXELS` color pixels of the first
         frame's size, at most :data:`MAX_FRAMES_PER_TASK` (small frames share
-        a task, so that Dask's cost per task stays small beside the work).
+        a task, so that Dask's cost per task stays small beside the work);
+        with ``total``, toward the end at most the frames left over twice the
+        workers' Dask threads, so that the last tasks are small and the
+        workers finish together.
+    total : int, optional
+        The number of ``tasks``, if known (see ``frames_per_task``).
 
     Raises
     ------
@@ -322,15 +343,17 @@ def run_frames(
 
     size = [max(1, int(chunk)) if temporal else (frames_per_task or 1)]  # frames of the next task
     threads = _check_running(client, client.nthreads)
+    slots = max(1, sum(threads.values()))
     if ahead is None:
-        ahead = 2 * max(1, sum(threads.values()))
+        ahead = 2 * slots
     share = _host_threads(threads)
     want = want or (lambda key: True)
     groups = _chunks(iter(tasks), size)
     pending: dict[Any, tuple[int, list[tuple[int, Hashable]]]] = {}  # future -> (chunk number, its frames)
     known: dict[int, list[tuple[int, FrameResult]]] = {}   # results settled before sending
     done: dict[int, list[tuple[int, FrameResult]]] = {}    # chunks finished, not yet yielded
-    next_submit = next_yield = 0
+    next_submit = next_yield = submitted = 0
+    largest = size[0]  # frames per task before the end
     exhausted = False
     try:
         while True:
@@ -340,8 +363,11 @@ def run_frames(
                     exhausted = True
                     break
                 settled, future, frames, pixels = _submit(client, group, plan, temporal, want, share)
-                if pixels and not temporal and frames_per_task is None:
-                    size[0] = max(1, min(MAX_FRAMES_PER_TASK, TASK_PIXELS // pixels))
+                submitted += len(group)
+                if not temporal and frames_per_task is None:
+                    if pixels:
+                        largest = max(1, min(MAX_FRAMES_PER_TASK, TASK_PIXELS // pixels))
+                    size[0] = largest if total is None else _task_size(largest, total - submitted, slots)
                 if future is None:
                     done[next_submit] = settled
                 else:
@@ -364,6 +390,21 @@ def run_frames(
         if pending and client.status == "running":
             with contextlib.suppress(Exception):
                 client.cancel(list(pending))
+
+
+def _task_size(largest: int, left: int, slots: int) -> int:
+    """Frames of the next task: ``largest``, but at most the ``left`` frames over twice the ``slots``, at least 1.
+
+    Each of the workers' ``slots`` threads holds about two tasks at once
+    (one running, one queued); toward the end tasks get smaller, so that no
+    worker finishes long after the others.
+
+    Examples
+    --------
+    >>> [_task_size(8, left, 2) for left in (47, 39, 31, 23, 17, 12, 9, 6, 3, 1)]
+    [8, 8, 8, 6, 5, 3, 3, 2, 1, 1]
+    """
+    return max(1, min(largest, -(-left // (2 * slots))))
 
 
 def _check_running(client: Any, call: Callable, *args, **kwargs) -> Any:
@@ -451,11 +492,11 @@ def _submit(client, group, plan, temporal, want, share):
         try:
             if isinstance(loader, BaseException):
                 raise loader
-            depth, rgb = loader()
+            depth, rgb, *files = loader()
         except (ValueError, TypeError, MemoryError) as exc:
             settled.append((order, FrameResult(key, None, error=_one_line(exc), bad_input=True)))
             continue
-        items.append((order, key, depth, rgb, is_wanted))
+        items.append((order, key, depth, rgb, is_wanted, files[0] if files else None))
     if not items:
         return settled, None, [], 0
     import dask
@@ -464,7 +505,7 @@ def _submit(client, group, plan, temporal, want, share):
     # Dask's advice against large tasks, "Sending large graph", is what this trades for that)
     with dask.config.set({"distributed.admin.large-graph-warning-threshold": "1TiB"}):
         future = _check_running(client, client.submit, _solve_chunk, plan, temporal, items, share, pure=False)
-    pixels = max(int(np.prod(np.shape(rgb)[:2])) for *_, rgb, _ in items)
+    pixels = max(int(np.prod(np.shape(item[3])[:2])) for item in items)
     return settled, future, [(order, key) for order, key, *_ in items], pixels
 
 
@@ -485,18 +526,20 @@ def _one_line(exc: BaseException) -> str:
 
 
 def _solve_chunk(plan: FramePlan, temporal: bool, items: list, share: Mapping[str, int]) -> list[tuple]:
-    """On a worker: solve a chunk's frames in order (warm-starting them with ``temporal``)."""
+    """On a worker: solve a chunk's frames in order (warm-starting them with ``temporal``), encode their files."""
     stateful = temporal and plan.method.refine_stateful is not None
     # A frame run only to warm-start the next needs no confidence map.
     unconfident = dataclasses.replace(plan, confidence=False, min_confidence=None)
     state = None
     rows = []
-    with _kernel_threads(_worker_share(share)):
-        for order, key, depth, rgb, is_wanted in items:
+    with task_settings(worker_share(share)):
+        for order, key, depth, rgb, is_wanted, files in items:
             start = time.perf_counter()
             try:
                 frame_plan = plan if is_wanted or not plan.confidence else unconfident
                 output, state = solve_frame(frame_plan, depth, rgb, state, stateful=stateful)
+                if is_wanted and files:
+                    output = encode_files(plan, output, files, input_dtype=depth.dtype, key=key)
             except (ValueError, TypeError, MemoryError) as exc:
                 rows.append((order, key, None, time.perf_counter() - start, _one_line(exc), True))
                 continue
@@ -508,56 +551,3 @@ def _solve_chunk(plan: FramePlan, temporal: bool, items: list, share: Mapping[st
                 continue
             rows.append((order, key, output if is_wanted else None, time.perf_counter() - start, None, False))
     return rows
-
-
-def _worker_share(share: Mapping[str, int]) -> int:
-    """This worker's share of its machine's cores: the cores over the Dask threads on the machine, at least 1."""
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    try:
-        from distributed import get_worker
-        from distributed.comm import get_address_host
-
-        worker = get_worker()
-        threads = share.get(get_address_host(worker.address), worker.state.nthreads)
-    except (ImportError, ValueError, AttributeError):  # not on a worker (called directly)
-        return cores
-    return max(1, cores // max(1, threads))
-
-
-#: Tasks inside :func:`_kernel_threads` in this process, and the caps before the first one entered.
-_caps_lock = threading.Lock()
-_caps_users = 0
-_caps_before: tuple[Any, Any] = (None, None)
-
-
-@contextlib.contextmanager
-def _kernel_threads(count: int) -> Iterator[None]:
-    """Cap numba's and OpenCV's threads in this process at ``count`` while any task runs; then restore them.
-
-    Counted, so that tasks on several threads of one process (a threaded
-    worker, or workers in the caller's own process) restore the caps only
-    when the last one leaves.
-    """
-    global _caps_users, _caps_before
-    import cv2
-
-    try:
-        from .. import _numba
-    except ImportError:  # no numba: the methods that need it say so themselves
-        _numba = None
-    with _caps_lock:
-        if _caps_users == 0:
-            _caps_before = (_numba.set_threads(count) if _numba else None, cv2.getNumThreads())
-        elif _numba:
-            _numba.set_threads(count)
-        cv2.setNumThreads(count)
-        _caps_users += 1
-    try:
-        yield
-    finally:
-        with _caps_lock:
-            _caps_users -= 1
-            if _caps_users == 0:
-                if _numba:
-                    _numba.set_threads(_caps_before[0])
-                cv2.setNumThreads(_caps_before[1])

@@ -15,8 +15,6 @@ import time
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from .. import __version__
 from ._job import DEFAULT_FPS, RECORD_EVERY, _RANGE_FRAMES, BatchSummary
 
@@ -32,7 +30,6 @@ class BatchWriter:
         self.outdir: Path = job.outdir
         self.rows: dict[str, dict[str, Any]] = {}
         self.header: dict[str, Any] = {}
-        self.dtypes: dict[str, np.dtype] = {}
         self.failed: list[tuple[str, str, bool]] = []
         self.refined = 0
         self.computed = 0
@@ -116,8 +113,6 @@ class BatchWriter:
             if error is None:
                 try:
                     self._write_frame(result.key, result.output)
-                except ValueError as exc:  # the output type cannot hold the values (--output-scale/-dtype)
-                    error, bad = " ".join(str(exc).split()), True
                 except OSError as exc:
                     error, bad = f"cannot write the outputs of {result.key}: {' '.join(str(exc).split())}", False
             if error is None:
@@ -137,40 +132,22 @@ class BatchWriter:
             self.write_record(complete=False)
 
     def _write_frame(self, key: str, output: Any) -> None:
-        """All of a frame's files, or none (the files written are removed if a later one fails)."""
-        from ..io import write_confidence, write_depth, write_ply, write_rgb
-        from ..viz import to_rgb8
+        """All of a frame's files (encoded by the worker: ``output.files``), or none (those written are removed
+        if a later one fails)."""
+        from ..io import write_bytes
 
         files = self.job.outputs[key]
-        depth, dtype = self._stored(key, output.depth_hr)
         written: list[Path] = []
         try:
-            if "color" in files:
-                rgb = output.rgb_hr if output.rgb_hr.dtype in (np.uint8, np.uint16) else to_rgb8(output.rgb_hr)
-                written.append(write_rgb(files["color"], rgb, overwrite=True))
-            if "ply" in files:
-                written.append(write_ply(files["ply"], output.points, output.colors, overwrite=True,
-                                         comments=(f"depthrefine batch frame {key}",
-                                                   "metres, color camera frame: X right, Y down, Z forward")))
-            if "confidence" in files:
-                written.append(write_confidence(files["confidence"], output.confidence, overwrite=True))
-            written.append(write_depth(files["depth"], depth, dtype=dtype, overwrite=True))
+            for kind in ("color", "ply", "confidence", "depth"):
+                if kind in files:
+                    written.append(write_bytes(files[kind], output.files[kind], overwrite=True))
             self._wrote.add(key)
         except BaseException:
             for path in written:
                 with contextlib.suppress(OSError):
                     path.unlink()
             raise
-
-    def _stored(self, key: str, depth: np.ndarray) -> tuple[np.ndarray, np.dtype]:
-        """The depth to write and its dtype, after the output scale and dtype."""
-        from ..io import output_values
-
-        o = self.options
-        try:
-            return output_values(depth, self.dtypes[key], scale=o.output_scale, dtype=o.output_dtype)
-        except ValueError as exc:
-            raise ValueError(f"output scale {o.output_scale or 1:g}, dtype {o.output_dtype}: {exc}") from None
 
     # ------------------------------------------------------------------ preview video
 

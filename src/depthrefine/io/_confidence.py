@@ -15,10 +15,10 @@ import numpy as np
 
 from .._lazy import cv2, tifffile
 from ._files import InputFileError, check_output
-from ._images import write_array
+from ._images import encode_array, write_bytes
 
 __all__ = ["CONFIDENCE_SUFFIXES", "CONFIDENCE_PNG_MAX", "check_confidence_format", "confidence_to_png",
-           "write_confidence", "read_confidence"]
+           "encode_confidence", "write_confidence", "read_confidence"]
 
 #: The formats a confidence map is written in.
 CONFIDENCE_SUFFIXES = (".tif", ".tiff", ".npy", ".png")
@@ -57,12 +57,17 @@ def write_confidence(path: str | os.PathLike, confidence: np.ndarray, *, overwri
         Unknown format, the file exists (without ``overwrite``), or its folder is missing.
     """
     p = check_output(path, overwrite=overwrite, what="confidence file")
-    suffix = check_confidence_format(p)
+    return write_bytes(p, encode_confidence(confidence, check_confidence_format(p)), overwrite=overwrite)
+
+
+def encode_confidence(confidence: np.ndarray, suffix: str) -> bytes:
+    """The bytes :func:`write_confidence` writes for ``confidence`` in a ``suffix`` file, in memory."""
+    suffix = check_confidence_format(f"confidence{suffix}")
     if suffix == ".png":
         data = confidence_to_png(confidence)
     else:
         data = np.clip(np.nan_to_num(np.asarray(confidence, dtype=np.float32), nan=0.0), 0.0, 1.0)
-    return write_array(p, data, suffix, overwrite=overwrite)
+    return encode_array(data, suffix)
 
 
 def read_confidence(path: str | os.PathLike) -> np.ndarray:

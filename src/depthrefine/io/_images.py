@@ -28,6 +28,7 @@ Formats: PNG (8/16-bit), TIFF (any dtype, float32 for metric depth), NumPy
 from __future__ import annotations
 
 import contextlib
+import io
 import math
 import os
 import sys
@@ -44,13 +45,16 @@ from ._files import InputFileError, atomic_write, check_output, existing_input
 __all__ = [
     "read_depth",
     "write_depth",
+    "encode_depth",
     "read_rgb",
     "write_rgb",
+    "encode_rgb",
     "DEPTH_SUFFIXES",
     "check_depth_format",
     "depth_to_dtype",
     "scale_to_dtype",
     "write_figure",
+    "write_bytes",
     "image_shape",
 ]
 
@@ -402,19 +406,49 @@ def write_depth(
     return write_array(p, depth_to_dtype(depth, dtype), suffix, overwrite=overwrite)
 
 
+def encode_depth(depth: np.ndarray, suffix: str, *, dtype: np.dtype | type | None = None) -> bytes:
+    """The bytes :func:`write_depth` writes for ``depth`` in a ``suffix`` file (``.png``, ...), in memory.
+
+    ``suffix`` must hold ``dtype`` (default: the array's own; see
+    :func:`check_depth_format`). For a worker that makes a file's contents
+    and hands them to the process that writes them.
+
+    Examples
+    --------
+    >>> encode_depth(np.array([[1.5, np.nan]], np.float32), ".npy", dtype=np.uint16)[:6]
+    b'\\x93NUMPY'
+    """
+    dtype = np.dtype(depth.dtype if dtype is None else dtype)
+    return encode_array(depth_to_dtype(depth, dtype), check_depth_format(f"depth{suffix}", dtype))
+
+
+def encode_array(data: np.ndarray, suffix: str) -> bytes:
+    """The bytes of a ``suffix`` file holding ``data`` (.npy, .tif/.tiff, else OpenCV's encoder), in memory."""
+    if suffix == ".npy":
+        buffer = io.BytesIO()
+        np.save(buffer, data, allow_pickle=False)
+        return buffer.getvalue()
+    if suffix in (".tif", ".tiff"):
+        buffer = io.BytesIO()
+        tifffile.imwrite(buffer, data)
+        return buffer.getvalue()
+    try:
+        ok, encoded = cv2.imencode(suffix, data)
+    except cv2.error:
+        ok = False
+    if not ok:
+        raise OSError(f"OpenCV could not encode a {data.dtype} image as {suffix}")
+    return encoded.tobytes()
+
+
+def write_bytes(p: Path, data: bytes, *, overwrite: bool) -> Path:
+    """Write ``data`` atomically to the checked path ``p`` (see :func:`check_output`)."""
+    return atomic_write(p, lambda tmp: tmp.write_bytes(data), overwrite=overwrite)
+
+
 def write_array(p: Path, data: np.ndarray, suffix: str, *, overwrite: bool) -> Path:
-    """Write ``data`` atomically to the checked path ``p`` as ``suffix`` says (.npy, .tif/.tiff, else OpenCV)."""
-
-    def _write(tmp: Path) -> None:
-        if suffix == ".npy":
-            with open(tmp, "wb") as fh:
-                np.save(fh, data, allow_pickle=False)
-        elif suffix in (".tif", ".tiff"):
-            tifffile.imwrite(tmp, data)
-        elif not cv2.imwrite(str(tmp), data):
-            raise OSError(f"OpenCV could not write {p}")
-
-    return atomic_write(p, _write, overwrite=overwrite)
+    """Write ``data`` atomically to the checked path ``p`` as ``suffix`` says (:func:`encode_array`)."""
+    return write_bytes(p, encode_array(data, suffix), overwrite=overwrite)
 
 
 def read_rgb(path: str | os.PathLike, *, max_pixels: int | None = None) -> np.ndarray:
@@ -448,10 +482,9 @@ def write_figure(path: str | os.PathLike, figure, *, overwrite: bool = False) ->
 def write_rgb(path: str | os.PathLike, rgb: np.ndarray, *, overwrite: bool = False) -> Path:
     """Write an RGB uint8 image (PNG or JPEG by extension), atomically."""
     p = check_output(path, overwrite=overwrite, what="output")
-    bgr = cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2BGR)
+    return write_bytes(p, encode_rgb(rgb, p.suffix.lower()), overwrite=overwrite)
 
-    def _write(tmp: Path) -> None:
-        if not cv2.imwrite(str(tmp), bgr):
-            raise OSError(f"OpenCV could not write {p}")
 
-    return atomic_write(p, _write, overwrite=overwrite)
+def encode_rgb(rgb: np.ndarray, suffix: str = ".png") -> bytes:
+    """The bytes :func:`write_rgb` writes for ``rgb`` in a ``suffix`` file (``.png``, ``.jpg``), in memory."""
+    return encode_array(cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2BGR), suffix)

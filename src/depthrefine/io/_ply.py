@@ -14,7 +14,7 @@ import numpy as np
 
 from ._files import InputFileError, atomic_write, check_output, existing_input
 
-__all__ = ["write_ply", "read_ply"]
+__all__ = ["write_ply", "encode_ply", "read_ply"]
 
 _PLY_TYPES = {
     "char": "i1", "uchar": "u1", "short": "<i2", "ushort": "<u2", "int": "<i4", "uint": "<u4",
@@ -52,6 +52,18 @@ def write_ply(
         Existing file without ``overwrite``, wrong suffix, bad shapes.
     """
     p = check_output(path, overwrite=overwrite, what="output", suffixes=(".ply",))
+    blob = encode_ply(points, colors, comments=comments)
+    return atomic_write(p, lambda tmp: tmp.write_bytes(blob))
+
+
+def encode_ply(points: np.ndarray, colors: np.ndarray | None = None, *, comments: tuple[str, ...] = ()) -> bytes:
+    """The bytes of the binary PLY file :func:`write_ply` writes, in memory.
+
+    Examples
+    --------
+    >>> encode_ply(np.zeros((1, 3)), comments=("one point",)).split(b"\\n")[:4]
+    [b'ply', b'format binary_little_endian 1.0', b'comment one point', b'element vertex 1']
+    """
     pts = np.asarray(points)
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise ValueError(f"points must have shape (N, 3); got {pts.shape}.")
@@ -72,12 +84,7 @@ def write_ply(
     header.append(f"element vertex {pts.shape[0]}")
     header += [f"property {'float' if t == '<f4' else 'uchar'} {n}" for n, t in fields]
     header.append("end_header")
-    blob = ("\n".join(header) + "\n").encode("ascii") + vertices.tobytes()
-
-    def _write(tmp: Path) -> None:
-        tmp.write_bytes(blob)
-
-    return atomic_write(p, _write)
+    return ("\n".join(header) + "\n").encode("ascii") + vertices.tobytes()
 
 
 def read_ply(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray | None]:
