@@ -34,16 +34,17 @@ def no_numba(monkeypatch):
     (``depthrefine._numba`` imports numba), before any kernel is made or a
     first-compile note is given, whatever earlier tests imported.
     """
-    import depthrefine
-    import depthrefine.methods as methods
-    import depthrefine.methods.thesis as thesis
+    def took_from_numba(module) -> bool:   # the kernel modules: ``from ..._numba import njit`` and the like
+        return any(getattr(value, "__module__", None) == "depthrefine._numba" for value in vars(module).values())
 
+    compiled = [name for name, module in list(sys.modules.items())
+                if name == "depthrefine._numba" or (name.startswith("depthrefine.") and module is not None
+                                                    and took_from_numba(module))]
     monkeypatch.setitem(sys.modules, "numba", None)
-    for name in ("depthrefine._numba", "depthrefine.methods._wls", "depthrefine.methods._resample",
-                 "depthrefine.methods.thesis._jit"):
-        monkeypatch.delitem(sys.modules, name, raising=False)
-    for package, name in ((depthrefine, "_numba"), (methods, "_wls"), (methods, "_resample"), (thesis, "_jit")):
-        monkeypatch.delattr(package, name, raising=False)
+    for name in compiled:
+        package, _, attribute = name.rpartition(".")
+        monkeypatch.delitem(sys.modules, name)
+        monkeypatch.delattr(sys.modules[package], attribute, raising=False)
 
 
 @pytest.fixture
