@@ -62,8 +62,8 @@ _PARALLEL_PIXELS = 1 << 16
 #: At it the two are already tied to float32 precision (their gap shrinks as ``1 / sqrt(lam * w)``).
 MAX_COUPLING = 1e30
 #: Seconds a first gbp call spends compiling the kernels with an empty numba cache (CPU seconds, cold minus warm,
-#: of ``python benchmarks/first_call.py --methods gbp`` on the 2-core machine: 5.6 and 6.0 since step 1b's
-#: kernel); said in the first-compile note.
+#: of ``python benchmarks/first_call.py --methods gbp`` on the 2-core machine at 71069c9: 5.6 and 6.0); said in
+#: the first-compile note.
 FIRST_COMPILE_SECONDS = 6
 
 
