@@ -14,16 +14,32 @@ from depthrefine.bench.synthetic import make_scene, make_two_planes
 #: ../shared/data beside the repository (team rule); tests skip when it is missing.
 #: ``DEPTHREFINE_TEST_SHARED_DATA=DIR`` points the tests elsewhere, e.g. at an empty folder to see
 #: what a user's clone without the data runs: ``DEPTHREFINE_TEST_SHARED_DATA=$(mktemp -d) pytest -rs``.
+DEFAULT_SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 SHARED_DATA = (Path(os.environ["DEPTHREFINE_TEST_SHARED_DATA"]) if os.environ.get("DEPTHREFINE_TEST_SHARED_DATA")
-               else Path(__file__).resolve().parents[1].parent / "shared" / "data")
+               else DEFAULT_SHARED_DATA)
 
 
 def shared_data_path(*parts: str) -> Path:
-    """A path under ../shared/data, or ``pytest.skip`` if it is not there."""
+    """A path under ../shared/data, or ``pytest.skip`` if it is not there (the reason says how to get it)."""
     path = SHARED_DATA.joinpath(*parts)
     if not path.exists():
-        pytest.skip(f"shared data not available: {path}")
+        pytest.skip(f"shared data not available: {path}; {how_to_get('/'.join(parts))}")
     return path
+
+
+def how_to_get(relative: str) -> str:
+    """How a user gets the data set holding ``relative`` (a path under the data root) and runs the tests on it."""
+    from depthrefine.io import DATASETS
+
+    then = f"then run the tests with DEPTHREFINE_TEST_SHARED_DATA=DIR (without it they read {DEFAULT_SHARED_DATA})"
+    for d in DATASETS.values():
+        if relative == d.folder or relative.startswith(d.folder + "/"):
+            if d.fetch_refused:
+                return (f"its licence does not allow `depthrefine data fetch`: `depthrefine data list {d.name} "
+                        f"--sources` says where to get each file, `depthrefine data verify DIR` checks the copy; "
+                        f"{then}")
+            return f"get it with `depthrefine data fetch {d.name} --to DIR`; {then}"
+    return f"`depthrefine data` lists the data sets and how to get each; {then}"
 
 
 @pytest.fixture

@@ -21,7 +21,7 @@ from depthrefine.cli import main
 from depthrefine.io import (InputFileError, depth_to_dtype, open_sequence, read_depth, read_ply, read_rgb,
                             scale_to_dtype, write_depth, write_rgb, write_rig)
 from depthrefine.methods.registry import METHODS, get_method, refine, register_method
-from depthrefine.rig import CameraModel, StereoRig
+from depthrefine.rig import AlignSettings, CameraModel, StereoRig
 
 distributed = pytest.importorskip("distributed")
 
@@ -230,6 +230,7 @@ def test_raw_frames_through_batch_rig_equal_run_on_each_frame(client, rig_folder
                  "--scheduler", client.scheduler.address]) == 0
     err = capsys.readouterr().err
     assert "note: chain: color image undistorted (bilinear); depth reprojected into the color camera" in err
+    assert "warning" not in err
     for i in range(3):
         single = tmp_path / f"run{i}.png"
         assert main(["run", str(rig_folder / "seq" / "depth" / f"{i:04d}.png"),
@@ -238,6 +239,22 @@ def test_raw_frames_through_batch_rig_equal_run_on_each_frame(client, rig_folder
         assert (out / f"{i:04d}.png").read_bytes() == single.read_bytes(), i
     record = json.loads((out / "batch.json").read_text())
     assert record["rig"]["source"].endswith("rig.json") and record["align"]["depth_units"] == 0.001
+
+
+def test_implausible_depth_units_are_a_warning_naming_the_units_and_the_median(client, rig_folder, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["batch", str(rig_folder / "seq"), "-o", str(out), "--rig", str(rig_folder / "rig.json"),
+                 "--depth-units", "1", "--method", "bilinear", "--scheduler", client.scheduler.address]) == 0
+    err = capsys.readouterr().err
+    # the wall is 1600 mm away; one warning, before the run's summary line
+    assert err.count("warning") == 1 and err.index("depthrefine batch: warning: frame 0000: depth units 1 m per stored "
+                                                   "value give a median depth of 1.6 km, outside the 5 cm .. 50 m") \
+        < err.index("batch: 3 frames"), err
+    assert "give --depth-units 0.001" in err
+    job = BatchJob(open_sequence(rig_folder / "seq"), tmp_path / "out2",
+                   BatchOptions(method="bilinear", rig=RIG, align=AlignSettings(inverse_scale=1.0)))
+    assert job.warnings == ["frame 0000: inverse depth scale 1 (metres = scale / value) give a median depth of 0.625 mm, "
+                            "outside the 5 cm .. 50 m a ToF camera measures: the units are probably wrong"]
 
 
 def test_the_recordings_own_calibration_and_units_run_the_chain(client, rig_folder, tmp_path):

@@ -389,6 +389,13 @@ def test_calibration_over_max_rms_is_refused_in_one_line_and_writes_nothing(tmp_
     assert "calibration refused: RMS reprojection error 0.1" in err and "over --max-rms 0.01 px" in err
     assert re.search(r"worst views: \S+ir_\d\d\.png 0\.\d\d px", err), err
     assert len(err.strip().splitlines()) == 1 and not out.exists() and not report.exists()
+    # an image without the board: the line says how many had it (a wrong --board finds the board in few)
+    blank = _write_images(tmp_path / "blank", [np.full_like(depth_views()[0], 128)], "blank")
+    assert main(["calibrate", *paths, *blank, "--board", "8x6", "--square", SQUARE_ARG, "-o", str(out),
+                 "--max-rms", "0.01"]) == 2
+    err = capsys.readouterr().err
+    assert "(the board found in 4 of 5 images, plain lens model; worst views: " in err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()
     color = _write_images(tmp_path / "rgb", color_views()[:4], "rgb")
     stereo = ["calibrate-stereo", "--depth-images", *paths, "--color-images", *color, "--board", "8x6",
               "--square", SQUARE_ARG, "-o", str(out)]

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import shared_data_path
+from conftest import how_to_get, shared_data_path
 from depthrefine.bench.protocols import PAIRS, PROTOCOLS
 from depthrefine.cli import main
 from depthrefine.io import DATASETS, file_sha256, sample_folder, verify_data
@@ -76,6 +76,9 @@ def test_catalog_covers_every_protocol_and_every_fetched_file():
         if not dataset.fetch_refused:  # every file comes from a source or is derived from them
             fetched = {f for s in dataset.sources for f in s.files}
             assert fetched | set(dataset.derived) == set(checksums), dataset.name
+    for dataset in DATASETS.values():  # every file the benchmark reads can be got: a URL, or made from fetched ones
+        if dataset.protocols:
+            assert set(dataset.file_urls()) | set(dataset.derived) == set(dataset.checksums), dataset.name
     assert {d.name for d in DATASETS.values() if not d.fetch_refused} == {
         "azure_kinect_mug", "iphone_lidar_bookshelf", "azure_kinect_charuco"}  # the MIT / Apache-2.0 captures
 
@@ -89,6 +92,15 @@ def test_data_lists_sources_licences_and_checksums(capsys):
     assert main(["data", "list", "iphone_lidar_bookshelf", "--files"]) == 0
     out = capsys.readouterr().out
     assert f"{BOOKSHELF.checksums['arkit_depth.png']}  arkit_depth.png" in out and "lu6" not in out
+    # where to get a refused data set's files by hand, renamed ones too (Park's x8 input is the repository's depth_3)
+    assert main(["data", "list", "middlebury2005_park", "--sources"]) == 0
+    out = capsys.readouterr().out
+    assert "by hand: depthrefine data list middlebury2005_park --sources" in out
+    assert ("  books/noisy_x8.png  https://raw.githubusercontent.com/wliusjtu/Robust-Color-Guided-Depth-Map-Restoration/"
+            "7fdec2b589f139728eb74f4eeeda2e92bd54ea23/Input%20%26%20Results/Input/book_depth_3_n.png\n") in out
+    assert len([line for line in out.splitlines() if "  https://raw.githubusercontent.com/" in line]) == 37
+    assert main(["data", "list", "azure_kinect_mug", "--sources"]) == 0
+    assert "  derived/ir_640x576.png  (the IR packet" in capsys.readouterr().out
 
 
 def test_verify_names_each_missing_extra_and_changed_file(tmp_path, capsys):
@@ -152,6 +164,7 @@ def test_fetch_failures_leave_nothing_behind(server, tmp_path, capsys, monkeypat
     assert main(["data", "fetch", "middlebury2005_park", "--to", str(data)]) == 2
     err = capsys.readouterr().err
     assert "is not downloaded: no licence grants the right to copy it" in err and "vision.middlebury.edu" in err
+    assert "`depthrefine data list middlebury2005_park --sources` gives each file's source" in err
     assert len(err.strip().splitlines()) == 1 and not data.exists()
     assert main(["data", "fetch", "nope", "--to", str(data)]) == 2
     assert "unknown data set 'nope'" in capsys.readouterr().err
@@ -176,3 +189,12 @@ def test_the_shared_data_matches_the_catalog(capsys):
     root = shared_data_path("middlebury2005_park").parent
     assert main(["data", "verify", str(root)]) == 0
     assert "ok: " in capsys.readouterr().err
+
+
+def test_a_test_skipped_for_missing_data_says_how_to_get_it():
+    assert how_to_get("real_tof/azure_kinect_charuco/calibration").startswith(
+        "get it with `depthrefine data fetch azure_kinect_charuco --to DIR`; then run the tests with "
+        "DEPTHREFINE_TEST_SHARED_DATA=DIR")
+    assert "`depthrefine data list middlebury2005_park --sources` says where to get each file" in how_to_get(
+        "middlebury2005_park/art")
+    assert how_to_get("").startswith("`depthrefine data` lists the data sets and how to get each")

@@ -226,6 +226,9 @@ class BatchJob:
         (``color`` and ``ply`` when asked).
     done_before : set of str
         Keys whose outputs an earlier run wrote (skipped unless ``overwrite``).
+    warnings : list of str
+        What looks wrong but is not refused, one line each (the depth units
+        putting the first frame's median depth outside 5 cm .. 50 m).
 
     Raises
     ------
@@ -276,6 +279,7 @@ class BatchJob:
                                            suffixes=VIDEO_SUFFIXES)
         self.done_before = {key for key, files in self.outputs.items()
                             if not options.overwrite and all(p.is_file() for p in files.values())}
+        self.warnings: list[str] = []
         if rig is not None:
             self._check_first_frame()
 
@@ -382,6 +386,7 @@ class BatchJob:
         """Align the first frame here: a rig of other sizes, or settings the chain refuses, fail before any work."""
         from ..io import InputFileError
         from ..rig.chain import align_pair
+        from ..rig.pointcloud import implausible_units
 
         first = next((f for f in self.sequence.frames if f.problem is None), None)
         if first is None:
@@ -398,6 +403,10 @@ class BatchJob:
                     f"the rig{f' ({self._rig_source})' if self._rig_source else ''} has a {w}x{h} {what} camera "
                     f"but the {what} frames are {image.shape[1]}x{image.shape[0]} (frame {frame.key}); give the "
                     "rig of this recording at this resolution.")
+        units = implausible_units(depth, depth_units=self.plan.align.depth_units,
+                                  inverse_scale=self.plan.align.inverse_scale)
+        if units:
+            self.warnings.append(f"frame {frame.key}: {units}")
         try:
             align_pair(depth, rgb, rig, settings=self.plan.align)
         except (ValueError, TypeError) as exc:

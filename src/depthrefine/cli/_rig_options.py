@@ -117,40 +117,8 @@ def chain_settings(args: argparse.Namespace) -> ChainSettings:
 def warn_implausible_units(command: str, depth: np.ndarray, *, depth_units: float | None,
                            inverse_scale: float | None) -> None:
     """A warning line on stderr when the units put the median depth outside 5 cm .. 50 m (PLAUSIBLE_DEPTH_M)."""
-    import math
+    from ..rig.pointcloud import implausible_units
 
-    from ..rig.pointcloud import PLAUSIBLE_DEPTH_M, median_metres
-
-    if depth_units is None and inverse_scale is None:
-        return
-    median = median_metres(depth, depth_units=depth_units, inverse_scale=inverse_scale)
-    lo, hi = PLAUSIBLE_DEPTH_M
-    if not math.isfinite(median) or lo <= median <= hi:
-        return
-    if depth_units is not None:
-        units = f"depth units {depth_units:g} m per stored value"
-        stored = median / depth_units
-        fits = [u for u in (1.0, 0.01, 0.001, 0.0001) if lo <= stored * u <= hi]
-        names = {1.0: "metres", 0.01: "centimetres", 0.001: "millimetres", 0.0001: "0.1 mm"}
-        best = min(fits, key=lambda u: abs(math.log(stored * u / 2.0)), default=None)  # nearest a room's 2 m
-        hint = f"; if the file holds {names[best]}, give --depth-units {best:g}" if best else ""
-    else:
-        units = f"inverse depth scale {inverse_scale:g} (metres = scale / value)"
-        hint = ""
-    print(f"depthrefine {command}: warning: {units} give a median depth of {_length(median)}, outside the "
-          f"{_length(lo)} .. {_length(hi)} a ToF camera measures: the units are probably wrong{hint}.",
-          file=sys.stderr)
-
-
-def _length(metres: float) -> str:
-    """``0.05`` -> ``"5 cm"``, ``1930.0`` -> ``"1.93 km"``.
-
-    Examples
-    --------
-    >>> _length(0.05), _length(2.5), _length(1930.0), _length(0.0004)
-    ('5 cm', '2.5 m', '1.93 km', '0.4 mm')
-    """
-    for unit, size in (("km", 1000.0), ("m", 1.0), ("cm", 0.01), ("mm", 0.001)):
-        if metres >= size or unit == "mm":
-            return f"{metres / size:.3g} {unit}"
-    return f"{metres:g} m"
+    problem = implausible_units(depth, depth_units=depth_units, inverse_scale=inverse_scale)
+    if problem:
+        print(f"depthrefine {command}: warning: {problem}.", file=sys.stderr)

@@ -124,6 +124,8 @@ def run(args: argparse.Namespace) -> int:
     options = _options(args)  # a bad parameter or rig file fails before anything is read
     seq = open_sequence(args.input, depth_topic=args.depth_topic, color_topic=args.color_topic, max_dt=args.max_dt)
     job = BatchJob(seq, args.output, options)
+    for warning in job.warnings:
+        print(f"depthrefine batch: warning: {warning}.", file=sys.stderr)
     update, close = progress_bar(f"batch ({job.method.name})", unit="frame")
     try:
         with local_client(args.workers, args.scheduler) as client:

@@ -234,7 +234,7 @@ def run_calibrate(args: argparse.Namespace) -> int:
         )
     used = [p for p, v in zip(args.images, found) if usable(v, board)]
     fit = fit_camera(views, board=board, image_size=size, estimate_k3=args.k3, rational=args.rational)
-    check_fit(fit, used, args.max_rms, what="calibration")
+    check_fit(fit, used, args.max_rms, what="calibration", images=len(args.images))
     for path in skipped:  # after the checks, so that an error stays one line
         print(f"depthrefine calibrate: board {board.spec} not found in {path}; skipped", file=sys.stderr)
     warn_few_views(fit.model, len(views), "views")
@@ -265,14 +265,20 @@ def run_calibrate(args: argparse.Namespace) -> int:
     return 0
 
 
-def check_fit(fit: CalibrationFit, names: list[str], max_rms: float, *, what: str) -> None:
-    """Refuse (``CliError``, one line) a fit whose RMS error is over ``max_rms``, naming the worst views."""
+def check_fit(fit: CalibrationFit, names: list[str], max_rms: float, *, what: str, images: int | None = None) -> None:
+    """Refuse (``CliError``, one line) a fit whose RMS error is over ``max_rms``, naming the worst views.
+
+    ``images``: how many images were given, when some had no board (said, as a wrong --board finds few).
+    """
     rms = fit.camera.rms
     if rms is None or rms <= max_rms:
         return
+    views = len(fit.views)
+    found = (f"the board found in {views} of {images} images" if images is not None and images > views
+             else f"{views} views")
     raise CliError(
         f"{what} refused: RMS reprojection error {rms:.2f} px is over --max-rms {max_rms:g} px "
-        f"({len(fit.views)} views, {fit.model} lens model; worst views: {_worst(names, fit.view_rms)}). "
+        f"({found}, {fit.model} lens model; worst views: {_worst(names, fit.view_rms)}). "
         "Check --board (a ChArUco board is charuco:COLSxROWS) and --square, leave out the worst views or "
         "take new ones; nothing was written."
     )

@@ -18,12 +18,15 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
             "from its original repository into DIR/<its folder>, checking every file."
         ),
     )
-    p.set_defaults(func=run_list, names=[], files=False)
+    p.set_defaults(func=run_list, names=[], files=False, sources=False)
     actions = p.add_subparsers(dest="action", metavar="ACTION")
     listing = actions.add_parser("list", help="the data sets (the default)")
     listing.add_argument("names", nargs="*", metavar="NAME", help="only these data sets")
     listing.add_argument("--files", action="store_true", help="also every expected file with its SHA-256 "
                                                               "(sha256sum format)")
+    listing.add_argument("--sources", action="store_true",
+                         help="also every expected file with the URL it was copied from (or how it was made): "
+                              "what to download by hand where `data fetch` refuses")
     listing.set_defaults(func=run_list)
     verify = actions.add_parser("verify", help="check a data folder file by file against the SHA-256 list",
                                 description="One line per missing, extra or changed file; exit status 2 on any.")
@@ -58,10 +61,17 @@ def run_list(args: argparse.Namespace) -> int:
         print(f"  source:    {d.original}")
         print(f"  licence:   {d.licence}")
         fetch = f"refused: {d.fetch_refused}" if d.fetch_refused else f"depthrefine data fetch {d.name} --to DIR"
+        if d.fetch_refused and set(d.file_urls()) == set(checksums):
+            fetch += f"; by hand: depthrefine data list {d.name} --sources gives each file's URL"
         print(f"  fetch:     {fetch}")
         if args.files:
             for path, digest in checksums.items():
                 print(f"  {digest}  {path}")
+        if args.sources:
+            urls = d.file_urls()
+            for path in checksums:
+                how = d.derived.get(path) or "not a copy of a public file: see source"
+                print(f"  {path}  {urls.get(path) or f'({how})'}")
         print()
     print("Check a copy: depthrefine data verify DIR (DIR laid out as shared/data); run the table: depthrefine bench "
           "--data DIR --report OUT.")

@@ -18,6 +18,7 @@ folder against it and downloads.
 from __future__ import annotations
 
 import functools
+import urllib.parse
 from dataclasses import dataclass, field
 from importlib import resources
 from typing import Mapping
@@ -90,6 +91,20 @@ class Dataset:
     fetch_refused: str = ""
     derived: Mapping[str, str] = field(default_factory=dict)
 
+    def file_urls(self, base_url: str = RAW_BASE_URL) -> dict[str, str]:
+        """``{file: URL}`` of every file copied from a source: ``{base_url}/{repo}/{commit}/{path}`` (quoted).
+
+        Also for a data set ``fetch`` refuses: where to get each file by hand.
+
+        Examples
+        --------
+        >>> DATASETS["lu6"].file_urls()["Depth/RGBD_01_output_depth.png"]  # doctest: +ELLIPSIS
+        'https://raw.githubusercontent.com/Zhaozixiang1228/GDSR-DCTNet/5243875.../RawDatasets/Lu/Depth/RGBD_01_output_depth.png'
+        """
+        base = base_url.rstrip("/")
+        return {local: f"{base}/{source.repo}/{source.commit}/{urllib.parse.quote(remote)}"
+                for source in self.sources for local, remote in source.files.items()}
+
     @property
     def checksums(self) -> dict[str, str]:
         """``{file: SHA-256 hex}`` of every expected file (package data ``data/catalog/<name>.sha256``)."""
@@ -109,7 +124,32 @@ def _checksums(name: str) -> tuple[tuple[str, str], ...]:
 
 _NO_LICENCE = ("no licence grants the right to copy it (the source repository has no licence file; the terms are "
                "research and evaluation use only)")
-_LU_SOURCE = DataSource("Zhaozixiang1228/GDSR-DCTNet", "5243875223398fd7996bca2e54dc2792bb96862a")
+_DCTNET = ("Zhaozixiang1228/GDSR-DCTNet", "5243875223398fd7996bca2e54dc2792bb96862a")
+_LU_SOURCE = DataSource(*_DCTNET)
+#: Middlebury_01 (Aloe) and _24 (Reindeer) of the 30 pairs, and RGBD_06 of Lu's 6, are not in the benchmark's copies.
+_LU30 = DataSource(*_DCTNET, {f"{kind}/Middlebury_{i:02d}_output_{what}.png":
+                              f"RawDatasets/Middlebury/{kind}/Middlebury_{i:02d}_output_{what}.png"
+                              for i in range(2, 31) if i != 24 for kind, what in (("RGB", "color"), ("Depth", "depth"))})
+_LU6 = DataSource(*_DCTNET, {name: f"RawDatasets/Lu/{name}" for i in range(1, 6)
+                             for name in (f"RGB/RGBD_{i:02d}_ouput_color.png", f"Depth/RGBD_{i:02d}_output_depth.png")})
+_NYU = DataSource(*_DCTNET, {name: f"RawDatasets/NYUDepthv2_Test/{name}" for i in (1000, 1001, 1002)
+                             for name in (f"RGB/{i}.jpg", f"Depth/{i}.npy")})
+#: Park's scenes as the wliusjtu repository names them; ``<s>_depth_<k>_n.png`` is the x2**k input (its Main.m
+#: runs depth_3_n as the 8X case).
+_PARK_SCENES = {"art": "art", "books": "book", "dolls": "dolls", "laundry": "laundry", "moebius": "moebius"}
+_PARK_INPUT = "Input & Results/Input/"
+_PARK = DataSource("wliusjtu/Robust-Color-Guided-Depth-Map-Restoration", "7fdec2b589f139728eb74f4eeeda2e92bd54ea23", {
+    **{f"{scene}/color.png": f"{_PARK_INPUT}{name}_color.png" for scene, name in _PARK_SCENES.items()},
+    **{f"{scene}/gt_disp.png": f"{_PARK_INPUT}{name}_big.png" for scene, name in _PARK_SCENES.items()},
+    **{f"{scene}/noisy_x{2 ** k}.png": f"{_PARK_INPUT}{name}_depth_{k}_n.png"
+       for scene, name in _PARK_SCENES.items() for k in (1, 2, 3, 4)},
+})
+_MSGNET_VIEW1 = DataSource("twhui/MSG-Net", "852da0a093e530370ccb069507847220644df331", {
+    f"{scene}/view1_fullsize.png": f"MSGNet-release/testing sets/A/RGB/{scene}.png" for scene in ("art", "books", "moebius")
+})
+_FERSTL = DataSource("RobVisLab/tofmark", "7a3404c52ece96c5af25e2398ef5650e5f64b118", {
+    f"art/noisy_ferstl_x{2 ** k}.png": f"tgvl2/test_imgs/depth_{k}_n.png" for k in (1, 2, 3, 4)
+})
 _PYK4A = DataSource("etiennedub/pyk4a", "8c153164b484037bd7afc02db0c2be89e7bb8b38", {
     "recording.mkv": "tests/assets/recording.mkv",
     "calibration.json": "tests/assets/calibration.json",
@@ -143,9 +183,7 @@ DATASETS: dict[str, Dataset] = {d.name: d for d in (
         "https://vision.middlebury.edu/stereo/data/ (scenes); inputs as in "
         "https://github.com/wliusjtu/Robust-Color-Guided-Depth-Map-Restoration/tree/"
         "7fdec2b589f139728eb74f4eeeda2e92bd54ea23 ('Input & Results/Input/')",
-        (DataSource("wliusjtu/Robust-Color-Guided-Depth-Map-Restoration", "7fdec2b589f139728eb74f4eeeda2e92bd54ea23"),
-         DataSource("twhui/MSG-Net", "852da0a093e530370ccb069507847220644df331"),
-         DataSource("RobVisLab/tofmark", "7a3404c52ece96c5af25e2398ef5650e5f64b118")),
+        (_PARK, _MSGNET_VIEW1, _FERSTL),
         fetch_refused=_NO_LICENCE + "; the files were also renamed from the source's",
     ),
     Dataset(
@@ -155,14 +193,14 @@ DATASETS: dict[str, Dataset] = {d.name: d for d in (
         "research and evaluation use only: no licence file (GDSR-DCTNet); Lu et al. and Middlebury publish none",
         "http://web.cecs.pdx.edu/~fliu/project/depth-enhance/ (Depth_Enh.zip, 01_Middlebury_Dataset); copied from "
         f"{_LU_SOURCE.url} (RawDatasets/Middlebury/)",
-        (_LU_SOURCE,), fetch_refused=_NO_LICENCE,
+        (_LU30,), fetch_refused=_NO_LICENCE,
     ),
     Dataset(
         "lu6", "lu6", "the Lu et al. (CVPR 2014) RGB-D captures, 5 of the 6 pairs", ("lu",),
         "research and evaluation use only: no licence file (GDSR-DCTNet); Lu et al. publish none",
         "http://web.cecs.pdx.edu/~fliu/project/depth-enhance/ (Depth_Enh.zip, 03_RGBD_Dataset); copied from "
         f"{_LU_SOURCE.url} (RawDatasets/Lu/)",
-        (_LU_SOURCE,), fetch_refused=_NO_LICENCE,
+        (_LU6,), fetch_refused=_NO_LICENCE,
     ),
     Dataset(
         "azure_kinect_mug", "real_tof/azure_kinect_mug",
@@ -198,7 +236,7 @@ DATASETS: dict[str, Dataset] = {d.name: d for d in (
         "research and evaluation use only: no licence file (GDSR-DCTNet); NYU asks for a citation",
         "https://cs.nyu.edu/~silberman/datasets/nyu_depth_v2.html; copied from "
         f"{_LU_SOURCE.url} (RawDatasets/NYUDepthv2_Test/)",
-        (_LU_SOURCE,), fetch_refused=_NO_LICENCE,
+        (_NYU,), fetch_refused=_NO_LICENCE,
     ),
 )}
 

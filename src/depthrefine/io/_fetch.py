@@ -16,7 +16,6 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
-import urllib.parse
 import urllib.request
 from dataclasses import dataclass
 from pathlib import Path
@@ -204,9 +203,11 @@ def fetch_dataset(name: str, to: str | os.PathLike, *, base_url: str | None = No
     """
     dataset = get_dataset(name)
     if dataset.fetch_refused:
+        each = (f" (`depthrefine data list {dataset.name} --sources` gives each file's source)"
+                if set(dataset.file_urls()) == set(dataset.checksums) else "")
         raise ValueError(f"{dataset.name} is not downloaded: {dataset.fetch_refused}. Get it from "
-                         f"{dataset.original} under its terms, lay it out as {dataset.folder}/ and check it with "
-                         "`depthrefine data verify DIR`.")
+                         f"{dataset.original} under its terms, lay it out as {dataset.folder}/{each} and check it "
+                         "with `depthrefine data verify DIR`.")
     base = (base_url or os.environ.get(DATA_URL_ENV) or RAW_BASE_URL).rstrip("/")
     root = Path(to)
     target = root / dataset.folder
@@ -221,12 +222,10 @@ def fetch_dataset(name: str, to: str | os.PathLike, *, base_url: str | None = No
     target.parent.mkdir(parents=True, exist_ok=True)
     try:
         with atomic_directory(target, overwrite=overwrite) as tmp:
-            for source in dataset.sources:
-                for local, remote in source.files.items():
-                    url = f"{base}/{source.repo}/{source.commit}/{urllib.parse.quote(remote)}"
-                    if progress is not None:
-                        progress(url)
-                    _download(url, tmp / local, expected[local])
+            for local, url in dataset.file_urls(base).items():
+                if progress is not None:
+                    progress(url)
+                _download(url, tmp / local, expected[local])
             if dataset.derived:
                 _DERIVERS[dataset.name](tmp)
             problems = verify_dataset(dataset, tmp)

@@ -61,9 +61,10 @@ _PARALLEL_PIXELS = 1 << 16
 #: The largest coupling ``lam * w`` of two neighbours: larger ones (and an infinite ``lam``) count as this.
 #: At it the two are already tied to float32 precision (their gap shrinks as ``1 / sqrt(lam * w)``).
 MAX_COUPLING = 1e30
-#: Seconds a first solve spends compiling the kernels with an empty numba cache (2-core machine,
-#: ``python benchmarks/first_call.py``); said in the first-compile note.
-FIRST_COMPILE_SECONDS = 4
+#: Seconds a first gbp call spends compiling the kernels with an empty numba cache (CPU seconds, cold minus warm,
+#: of ``python benchmarks/first_call.py --methods gbp`` on the 2-core machine at 71069c9: 5.6 and 6.0); said in
+#: the first-compile note.
+FIRST_COMPILE_SECONDS = 6
 
 
 @njit(error_model="numpy")

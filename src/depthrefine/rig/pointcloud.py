@@ -36,6 +36,7 @@ from .camera import CameraModel
 __all__ = [
     "PLAUSIBLE_DEPTH_M",
     "median_metres",
+    "implausible_units",
     "depth_to_metres",
     "metres_to_depth",
     "pixel_rays",
@@ -95,6 +96,58 @@ def median_metres(depth: np.ndarray, *, depth_units: float | None = None,
     metres = metres64(depth, depth_units, inverse_scale)
     valid = metres[np.isfinite(metres) & (metres > 0)]
     return float(np.median(valid)) if valid.size else math.nan
+
+
+def implausible_units(depth: np.ndarray, *, depth_units: float | None = None,
+                      inverse_scale: float | None = None) -> str | None:
+    """Why the units look wrong (the median depth is outside :data:`PLAUSIBLE_DEPTH_M`), or ``None``.
+
+    The message names the units and the median, and for ``depth_units`` the
+    units that would put the median in a room's range, worded for the
+    command line (``--depth-units``). ``None`` also when no unit is given or
+    no pixel is valid.
+
+    Examples
+    --------
+    >>> d = np.array([[0, 900, 1500, 2000]], np.uint16)
+    >>> implausible_units(d, depth_units=0.001) is None
+    True
+    >>> implausible_units(d, depth_units=1.0)
+    'depth units 1 m per stored value give a median depth of 1.5 km, outside the 5 cm .. 50 m a ToF camera \
+measures: the units are probably wrong; if the file holds millimetres, give --depth-units 0.001'
+    """
+    if depth_units is None and inverse_scale is None:
+        return None
+    median = median_metres(depth, depth_units=depth_units, inverse_scale=inverse_scale)
+    lo, hi = PLAUSIBLE_DEPTH_M
+    if not math.isfinite(median) or lo <= median <= hi:
+        return None
+    if depth_units is not None:
+        units = f"depth units {depth_units:g} m per stored value"
+        stored = median / depth_units
+        names = {1.0: "metres", 0.01: "centimetres", 0.001: "millimetres", 0.0001: "0.1 mm"}
+        fits = [u for u in names if lo <= stored * u <= hi]
+        best = min(fits, key=lambda u: abs(math.log(stored * u / 2.0)), default=None)  # nearest a room's 2 m
+        hint = f"; if the file holds {names[best]}, give --depth-units {best:g}" if best else ""
+    else:
+        units = f"inverse depth scale {inverse_scale:g} (metres = scale / value)"
+        hint = ""
+    return (f"{units} give a median depth of {_length(median)}, outside the {_length(lo)} .. {_length(hi)} a ToF "
+            f"camera measures: the units are probably wrong{hint}")
+
+
+def _length(metres: float) -> str:
+    """``0.05`` -> ``"5 cm"``, ``1930.0`` -> ``"1.93 km"``.
+
+    Examples
+    --------
+    >>> _length(0.05), _length(2.5), _length(1930.0), _length(0.0004)
+    ('5 cm', '2.5 m', '1.93 km', '0.4 mm')
+    """
+    for unit, size in (("km", 1000.0), ("m", 1.0), ("cm", 0.01), ("mm", 0.001)):
+        if metres >= size or unit == "mm":
+            return f"{metres / size:.3g} {unit}"
+    return f"{metres:g} m"
 
 
 def metres_to_depth(
