@@ -160,6 +160,26 @@ def test_options_override_the_params_file(files, tmp_path):
                                   expected(SCENE.depth_lr, method="thesis", params=ThesisParams(n_clusters=2)))
 
 
+def test_snap_edges_switch_sets_gbps_parameter(files, tmp_path):
+    from depthrefine.methods.gbp import GbpParams
+
+    depth, color = files
+    out = tmp_path / "out.png"
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--snap-edges"]) == 0
+    snapped = expected(SCENE.depth_lr, params=GbpParams(snap_edges=True))
+    np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), snapped)
+    assert np.any(snapped != expected(SCENE.depth_lr)), "the scene must have a jump that snapping moves"
+
+
+def test_snap_edges_with_another_method_is_exit_2(files, tmp_path, capsys):
+    depth, color = files
+    out = tmp_path / "out.png"
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "bicubic", "--snap-edges"]) == 2
+    err = capsys.readouterr().err
+    assert "--snap-edges" in err and "--method gbp" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
 def test_params_toml_with_an_unknown_key_is_exit_2(files, tmp_path, capsys):
     depth, color = files
     toml = tmp_path / "params.toml"

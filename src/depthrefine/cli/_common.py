@@ -104,8 +104,11 @@ def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "-
                 if option.exclusive not in exclusive:
                     exclusive[option.exclusive] = group.add_mutually_exclusive_group()
                 where = exclusive[option.exclusive]
-            where.add_argument(option.flag, dest=option.dest, type=option.type, metavar=option.metavar,
-                               help=option.help)
+            if option.switch:
+                where.add_argument(option.flag, dest=option.dest, action="store_const", const=True, help=option.help)
+            else:
+                where.add_argument(option.flag, dest=option.dest, type=option.type, metavar=option.metavar,
+                                   help=option.help)
 
 
 def add_units_option(parser: argparse.ArgumentParser, *, help: str | None = None) -> None:

@@ -50,6 +50,9 @@ class MethodOption:
     conflicts : tuple of str
         Parameters that, set in a ``--params`` or settings file, contradict
         this option (``--patches`` against the file's ``patch_layout``).
+    switch : bool
+        An option without a value that sets its boolean parameter to True
+        (``--snap-edges``); ``type`` and ``metavar`` are then unused.
 
     Examples
     --------
@@ -67,6 +70,7 @@ class MethodOption:
     show: Callable[[Any], str] = str
     exclusive: str | None = None
     conflicts: tuple[str, ...] = ()
+    switch: bool = False
 
     def __post_init__(self) -> None:
         if not re.fullmatch(r"--[a-z][a-z0-9-]*", self.flag):

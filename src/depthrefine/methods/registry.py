@@ -28,6 +28,7 @@ from ._names import DEFAULT_METHOD
 from .intermediates import Intermediates
 from .options import MethodOption
 from .scale import plan_scale
+from .gbp._options import OPTIONS as GBP_OPTIONS
 from .thesis._options import OPTIONS as THESIS_OPTIONS
 from .thesis.intermediates import thesis_intermediates
 from .thesis.params import ThesisParams
@@ -298,7 +299,7 @@ register_method("wmf", peers.upsample_wmf, params_type=peers.WeightedMedianParam
 if peers.fast_bilateral_solver_available():
     register_method("fbs", peers.upsample_fbs, params_type=peers.FastBilateralSolverParams,
                     summary="bilinear, then OpenCV fast bilateral solver (Barron 2016)")
-register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True,
+register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolating=True, options=GBP_OPTIONS,
                 refine_stateful=gbp.upsample_gbp_stateful, confidence=gbp.upsample_gbp_with_confidence,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")

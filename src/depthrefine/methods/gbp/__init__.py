@@ -30,7 +30,8 @@ warm start for video (:func:`upsample_gbp_stateful`); ``params`` holds the
 knobs (:class:`GbpParams`). Invalid input pixels are filled from the nearest
 valid pixel before any interpolation and never pull the result; the output
 stays within the input's valid range and is deterministic. How each default
-was chosen: ``docs/tuning.md``.
+was chosen: ``docs/tuning.md``. The names below are imported on first use, so
+that the command line can read gbp's options (``_options``) without numpy.
 
 References
 ----------
@@ -41,11 +42,16 @@ D. L. Donoho, I. M. Johnstone, "Ideal spatial adaptation by wavelet
 shrinkage", Biometrika 1994 (noise from the finest wavelet band).
 """
 
-from .measure import InputMeasures, block_mean_valid, estimate_guide_noise, estimate_noise, footprint_share
-from .params import GbpParams
-from .trust import guide_trust
-from .upsample import upsample_gbp, upsample_gbp_stateful
-from .confidence import upsample_gbp_with_confidence
+from ..._lazy import lazy_exports
 
-__all__ = ["GbpParams", "upsample_gbp", "upsample_gbp_stateful", "upsample_gbp_with_confidence", "estimate_noise", "estimate_guide_noise",
-           "footprint_share", "guide_trust", "block_mean_valid", "InputMeasures"]
+_EXPORTS = {
+    ".measure": ("InputMeasures", "block_mean_valid", "estimate_guide_noise", "estimate_noise", "footprint_share"),
+    ".params": ("GbpParams",),
+    ".trust": ("guide_trust",),
+    ".upsample": ("upsample_gbp", "upsample_gbp_stateful"),
+    ".confidence": ("upsample_gbp_with_confidence",),
+}
+__all__ = [name for names in _EXPORTS.values() for name in names]
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, ("measure", "fattening", "solve", "trust", "edges",
+                                                         "upsample", "confidence", "params", "fast"))

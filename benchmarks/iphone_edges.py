@@ -1,0 +1,86 @@
+"""The real iPhone LiDAR frame: how far the refined depth's near outlines lie from the color edges.
+
+The shipped capture (``depthrefine.io.load_capture("bookshelf")``: 256x192
+ARKit depth in mm, its 1920x1440 RGB frame; ratio 7.5) is refined with
+bicubic, the default method and the default method with ``--snap-edges``
+(``GbpParams(snap_edges=True)``). For each result it prints
+:func:`depthrefine.rig.edges.edge_overlap` at three near / far thresholds
+(the outline of the pixels nearer than ``near`` next to pixels farther than
+``far``: the sofa and the shelves' fronts against the wall; the median
+distance of its pixels to the nearest Canny edge of the color image, and
+the share within 2 px). With ``--figure FILE`` it writes the sofa's back
+against the shelves at full resolution, the color image with the refined
+depth's edges (a 3x3 depth range over ``EDGE_MM``) in red, one row per
+result::
+
+    PYTHONPATH=src python benchmarks/iphone_edges.py --figure docs/iphone_edges.jpg
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+import depthrefine
+from depthrefine.io import load_capture
+from depthrefine.rig.edges import edge_overlap
+
+#: (near, far) thresholds in mm: the sofa (about 2 m) and the shelves' fronts against the back wall.
+THRESHOLDS = ((2100, 2500), (2300, 2700), (2500, 2900))
+#: (row0, row1, col0, col1) of the figure: the sofa's back and right side against the shelves.
+ZOOM = (300, 700, 0, 720)
+#: A depth edge in the figure: the 3x3 range of the refined depth over this many mm.
+EDGE_MM = 150.0
+
+
+def results(depth: np.ndarray, rgb: np.ndarray) -> dict[str, np.ndarray]:
+    """Bicubic, the default method and the default method with snapped edges, on the color grid."""
+    default = depthrefine.DEFAULT_METHOD
+    return {"bicubic": depthrefine.refine(depth, rgb, method="bicubic"),
+            default: depthrefine.refine(depth, rgb),
+            f"{default} --snap-edges": depthrefine.refine(depth, rgb, params=depthrefine.GbpParams(snap_edges=True))}
+
+
+def figure(rgb: np.ndarray, refined: dict[str, np.ndarray], path: str) -> None:
+    """Each result's depth edges in red over the color image, in the :data:`ZOOM` window, one row each."""
+    import cv2
+
+    r0, r1, c0, c1 = ZOOM
+    rows = []
+    for name, depth in refined.items():
+        window = np.ascontiguousarray(depth[r0:r1, c0:c1])
+        kernel = np.ones((3, 3), np.uint8)
+        edges = (cv2.dilate(window, kernel) - cv2.erode(window, kernel)) > EDGE_MM
+        picture = rgb[r0:r1, c0:c1].copy()
+        picture[edges] = (255, 0, 0)
+        cv2.putText(picture, name, (10, 30), cv2.FONT_HERSHEY_SIMPLEX, 0.9, (255, 255, 255), 2, cv2.LINE_AA)
+        rows.append(picture)
+    if not cv2.imwrite(path, cv2.cvtColor(np.concatenate(rows, axis=0), cv2.COLOR_RGB2BGR)):
+        raise OSError(f"could not write {path}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--figure", metavar="FILE", help="also write the zoomed outlines to this picture (.jpg, .png)")
+    args = ap.parse_args(argv)
+    capture = load_capture("bookshelf")
+    refined = results(capture.depth, capture.rgb)
+    print("median distance of the near outline to the color edges, px (share within 2 px)")
+    print("| | " + " | ".join(f"{near} / {far} mm" for near, far in THRESHOLDS) + " |")
+    print("|---|" + "---|" * len(THRESHOLDS))
+    for name, depth in refined.items():
+        cells = []
+        for near, far in THRESHOLDS:
+            overlap = edge_overlap(depth, capture.rgb, near=near, far=far)
+            cells.append(f"{overlap.median_px:.2f} ({overlap.fraction:.0%})")
+        print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
+    if args.figure:
+        figure(capture.rgb, refined, args.figure)
+        print(f"wrote {args.figure}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
