@@ -23,7 +23,6 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .. import __version__
 from ..methods.registry import DEFAULT_METHOD, get_method
 from ._frame import FramePlan
 from ._schedule import DEFAULT_CHUNK, needed_keys, run_frames

@@ -72,14 +72,12 @@ def _warm_up_numba(method: str) -> threading.Thread | None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .. import viz
     from .._validate import as_depth
     from ..io import (DEPTH_SUFFIXES, atomic_directory, check_depth_format, check_distinct_inputs, check_output,
                       check_output_dir, read_depth, read_rgb, write_confidence, write_depth, write_intermediates)
     from ..methods.confidence import confidence_of
     from ..methods.registry import get_method, refine_intermediates
     from ..methods.scale import plan_scale
-    from ..viz import depth_figure
 
     out = check_output(args.output, overwrite=args.overwrite, suffixes=DEPTH_SUFFIXES,
                        inputs=(args.depth, args.color))

@@ -115,6 +115,7 @@ def run_chain(args: argparse.Namespace) -> int:
 
     from ..io import (DEPTH_SUFFIXES, ChainSettings, check_depth_format, check_distinct_inputs, check_output,
                       read_depth, read_rgb, write_chain_settings, write_confidence, write_depth, write_ply, write_rgb)
+    from ..methods.confidence import confidence_on_grid
     from ..rig.chain import align_pair, keep_unmeasured
     from ..rig.pointcloud import depth_to_points
 
@@ -159,7 +160,7 @@ def run_chain(args: argparse.Namespace) -> int:
     fill_holes = args.fill_holes or chain.fill_holes
     depth_hr = keep_unmeasured(depth_hr, pair.depth_lr, fill_enclosed=fill_holes)
     if confidence is not None:
-        confidence[~np.isfinite(depth_hr)] = 0.0   # no depth, no confidence
+        confidence = confidence_on_grid(confidence, depth_hr)   # 0 where the chain left no depth
         confidence_line = confidence_note(confidence, args.min_confidence)
         depth_hr, confidence = apply_min_confidence(depth_hr, confidence, args.min_confidence)
     stored, dtype = output_depth(args, depth_hr, depth_raw.dtype)

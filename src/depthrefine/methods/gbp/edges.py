@@ -65,7 +65,7 @@ def snap_edges(result: np.ndarray, m: InputMeasures, guide: np.ndarray, scale: f
     from .. import _wls
     from ._geodesic import nearest_seed
 
-    band_lr = jump_band(m)
+    band_lr = m.large_jumps
     if not band_lr.any():
         return result
     shape = result.shape

@@ -30,7 +30,6 @@ import math
 
 import numpy as np
 
-from .edges import jump_band
 from .measure import InputMeasures, near_jump
 from .solve import resize
 
@@ -101,7 +100,7 @@ def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.nd
     """
     import cv2
 
-    band_lr = jump_band(m)
+    band_lr = m.large_jumps
     if not band_lr.any():
         return np.zeros(0), np.zeros(0)
     shape = guide.shape[:2]

@@ -10,6 +10,7 @@ measures the input again.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -85,6 +86,10 @@ class InputMeasures:
         1 near a depth jump of the input, 0 on smooth surfaces.
     guide_noise : float
         The guide's noise standard deviation, 8-bit levels.
+
+    Two more measures are taken on first use and kept (each is measured
+    once however many steps read it): :attr:`neighbourhood` and
+    :attr:`large_jumps`.
     """
 
     depth: np.ndarray
@@ -98,6 +103,25 @@ class InputMeasures:
     footprint: float
     jump: np.ndarray
     guide_noise: float
+
+    @functools.cached_property
+    def neighbourhood(self) -> tuple[np.ndarray, np.ndarray]:
+        """The smallest and the largest ``filled`` value of each input pixel's 3x3 neighbourhood, (h, w) float32 each.
+
+        The start's clip near the jumps (:func:`~.solve.clamped_bicubic`, step 2)
+        and the flat-area test (:func:`~.solve.flat_blend`, step 4) read it.
+        """
+        import cv2
+
+        kernel = np.ones((3, 3), np.uint8)
+        return cv2.erode(self.filled, kernel), cv2.dilate(self.filled, kernel)
+
+    @functools.cached_property
+    def large_jumps(self) -> np.ndarray:
+        """The input pixels near a large depth jump, (h, w) bool (:func:`~.edges.jump_band`; steps 1b and 6)."""
+        from .edges import jump_band
+
+        return jump_band(self)
 
 
 def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: bool = True) -> InputMeasures:

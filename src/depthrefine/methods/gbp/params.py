@@ -25,7 +25,8 @@ class GbpParams:
 
     Lengths are in low-resolution (depth) pixels, color sensitivities in
     8-bit guide levels. The defaults were chosen on the benchmark's tuning
-    scenes (``docs/tuning.md``).
+    scenes against their neighbours; each figure, and its command, is in
+    ``docs/tuning.md``.
 
     Attributes
     ----------
@@ -34,28 +35,31 @@ class GbpParams:
         image (8; the tuning mean fell up to 8 rounds, 10 gained nothing).
     lambda_lr : float
         Smoothness of the detail solve on a noise-free input, per squared
-        depth pixel (0.06; it grows with the input's measured noise).
-        Larger rounds depth edges, smaller keeps more of the input's noise.
+        depth pixel (0.06, the best of 0.03-0.1 with ``gradient_levels`` when
+        chosen; it grows with the input's measured noise). Larger rounds
+        depth edges, smaller keeps more of the input's noise.
     sigma_color : float
-        Color sensitivity of the solves, 8-bit levels (4; at least 3 times the
-        guide's own measured noise): a smaller value stops the smoothing at
-        fainter color edges.
+        Color sensitivity of the solves, 8-bit levels (4, better than 3 and 5;
+        raised to 3 times the guide's own measured noise where that is more):
+        a smaller value stops the smoothing at fainter color edges.
     flat_lambda_lr : float
-        Smoothness of the flat-area solve, per depth pixel (32): how strongly
-        noise is averaged over whole color segments where the input shows no
-        depth edge.
+        Smoothness of the flat-area solve, per depth pixel (32, better than 16
+        and 64): how strongly noise is averaged over whole color segments
+        where the input shows no depth edge.
     gradient_levels : float
         How far a depth jump of the current estimate stops the smoothing
         without a color edge, in 8-bit levels of the depth range per depth
-        pixel (96; 0 turns it off): smaller keeps the input's own edges more.
+        pixel (96, the best of 64-192 when chosen; 0 turns it off): smaller
+        keeps the input's own edges more.
     guide_smoothing : float
         Color sigma, 8-bit levels, of the 3x3 bilateral filter the guide goes
-        through before its edges are weighed (5; 0 turns it off): texture and
-        noise inside a color region make no edges.
+        through before its edges are weighed (5, better than 0 and 3; 0 turns
+        it off): texture and noise inside a color region make no edges.
     trust : bool
         Check the guide against the input one octave down and fall back to
-        plain interpolation where the guide's detail is not confirmed (True):
-        a guide whose texture is not depth does no harm.
+        plain interpolation where the guide's detail is not confirmed (True;
+        it made every real-ToF cell better): a guide whose texture is not depth
+        does no harm.
     snap_edges : bool
         Move each large depth jump, within two depth pixels, onto the
         strongest color edge between its two surfaces, and mixed ("flying")

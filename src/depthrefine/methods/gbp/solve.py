@@ -169,25 +169,30 @@ def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.
     return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
 
 
-def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray) -> np.ndarray:
+def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray, *,
+                    neighbourhood: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """Bicubic enlargement, clipped near depth jumps to the range of each pixel's 3x3 input neighbourhood.
 
     Plain bicubic rings at a depth jump (values beyond both sides); clipped
     there, it keeps bicubic's sharpness, and on smooth surfaces (``jump`` 0)
     it stays plain bicubic, whose peaks may rightly pass the samples.
-    ``depth`` is hole-filled; ``jump`` is its jump map (:func:`.measure.near_jump`).
+    ``depth`` is hole-filled; ``jump`` is its jump map (:func:`.measure.near_jump`);
+    ``neighbourhood``, when given, is the (min, max) of ``depth``'s 3x3
+    neighbourhoods already measured (:attr:`.measure.InputMeasures.neighbourhood`).
     """
     import cv2
 
     from .. import _resample
 
-    kernel = np.ones((3, 3), np.uint8)
+    if neighbourhood is None:
+        kernel = np.ones((3, 3), np.uint8)
+        neighbourhood = cv2.erode(depth, kernel), cv2.dilate(depth, kernel)
     up = resize(depth, shape, cv2.INTER_CUBIC)
     # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid (the call's peak
     # memory: one image-sized array beside the result)
     (h, w), (H, W) = depth.shape, shape
-    _resample.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), cv2.erode(depth, kernel),
-                          cv2.dilate(depth, kernel), nearest_index(h, H), nearest_index(w, W))
+    _resample.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), *neighbourhood,
+                          nearest_index(h, H), nearest_index(w, W))
     return up
 
 
@@ -344,14 +349,16 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds 
     first = min(COARSE_ROUNDS, p.iterations - 1) if coarse is not None else 0
     grid = coarse if first > 0 else solver
     grid_bounds = bounds if grid is solver else _bounds_on(bounds, m.depth.shape, grid.shape)
-    residual_bounds = grid_bounds if m.valid.all() else local_bounds(m.depth, grid.shape, hole_margin=1)
-    x = clamped_bicubic(m.filled, grid.shape, m.jump)
+    # the residual's clip spares the pixels within one input pixel of a hole (measured once, on the input's grid)
+    hole_bounds = None if m.valid.all() else local_bounds(m.depth, shape, hole_margin=1)
+    residual_bounds = grid_bounds if hole_bounds is None else _bounds_on(hole_bounds, m.depth.shape, grid.shape)
+    x = clamped_bicubic(m.filled, grid.shape, m.jump, neighbourhood=m.neighbourhood)
     for k in range(p.iterations):
         if k == first and grid is not solver:
             # each pixel from the reduced pixels of its own color: the edges stay sharp
             x = _resample.guided_enlarge(x, coarse.guide, solver.guide, ENLARGE_SIGMA_COLOR * solver.sigma_color)
             grid, grid_bounds = solver, bounds
-            residual_bounds = bounds if m.valid.all() else local_bounds(m.depth, shape, hole_margin=1)
+            residual_bounds = bounds if hole_bounds is None else hole_bounds
         ratio = LAMBDA_FIRST * (LAMBDA_LAST / LAMBDA_FIRST) ** (k / max(1, p.iterations - 1))
         residual = m.filled - reduce(x, (h, w), m.footprint)
         residual[~m.valid] = 0.0
@@ -392,10 +399,10 @@ def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) ->
     grid = _coarse(solver, m) or solver
     flat = _wls.smooth(resize(m.filled, grid.shape, cv2.INTER_LINEAR), grid.flat_x, grid.flat_y,
                        p.flat_lambda_lr * grid.scale)
-    kernel = np.ones((3, 3), np.uint8)
-    local_range = cv2.dilate(m.filled, kernel) - cv2.erode(m.filled, kernel)
+    low, high = m.neighbourhood
+    local_range = high - low
     edge = np.clip((local_range - EDGE_LOW * m.sigma) / (EDGE_WIDTH * m.sigma + 1e-6 * m.span), 0.0, 1.0)
-    edge = cv2.dilate(edge.astype(np.float32), kernel)
+    edge = cv2.dilate(edge.astype(np.float32), np.ones((3, 3), np.uint8))
     edge = (1.0 - (1.0 - edge) * noise_share(m.sigma_levels)).astype(np.float32)
     # the two image-sized temporaries in the solver's scratch arrays (free between solves): no more memory
     flat_full, edge_full = _wls.scratch(solver.shape)
