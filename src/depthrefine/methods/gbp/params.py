@@ -66,9 +66,10 @@ class GbpParams:
         values onto one of them (False): for real sensors whose depth edges
         sit off the color edges (direct-ToF fattening, calibration error).
         On the real iPhone LiDAR frame it brings the sofa's outline from a
-        median 6.3 to 1.4 px off the color edges (``benchmarks/iphone_edges.py``; ``--snap-edges`` on the command line); on the benchmark's
-        registered, textured inputs it follows texture edges (tuning mean
-        2.39 -> 6.10, ``docs/tuning.md``), hence off.
+        median 6.3 to 1.4 px off the color edges (``benchmarks/iphone_edges.py``;
+        ``--snap-edges`` on the command line); on the benchmark's registered,
+        textured inputs it follows texture edges (tuning mean 2.39 -> 6.10,
+        ``docs/tuning.md``), hence off.
     """
 
     iterations: int = 8
