@@ -114,7 +114,7 @@ def demo_panels(results: dict[str, object], scores: dict[str, float], *, scale: 
 
 def art_demo(scale: int = 8, *, default: str = DEFAULT_METHOD, progress_bar: ProgressBar | None = None) -> DemoOutput:
     """Middlebury 2005 Art at ``scale``: every compared method, its RMSE and time, the comparison figure."""
-    from ..evaluate import rmse
+    from .metrics import rmse
     from ..io import load_sample, sample_folder
     from ..methods.params import params_to_dict
     from ..methods.registry import METHODS
@@ -233,7 +233,7 @@ def mug_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | None =
 
 def bookshelf_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | None = None) -> DemoOutput:
     """The iPhone LiDAR bookshelf refined x7.5, and a self-benchmark: its depth subsampled x4 and refined back."""
-    from ..evaluate import rmse
+    from .metrics import rmse
     from ..io import load_capture
     from ..methods.registry import refine
     from .._lazy import cv2
