@@ -61,7 +61,7 @@ def run_list(args: argparse.Namespace) -> int:
         print(f"  source:    {d.original}")
         print(f"  licence:   {d.licence}")
         fetch = f"refused: {d.fetch_refused}" if d.fetch_refused else f"depthrefine data fetch {d.name} --to DIR"
-        if d.fetch_refused and set(d.file_urls()) == set(checksums):
+        if d.fetch_refused and d.sourced:
             fetch += f"; by hand: depthrefine data list {d.name} --sources gives each file's URL"
         print(f"  fetch:     {fetch}")
         if args.files:

@@ -106,6 +106,11 @@ class Dataset:
                 for source in self.sources for local, remote in source.files.items()}
 
     @property
+    def sourced(self) -> bool:
+        """Whether every expected file has a source URL (:meth:`file_urls`): a copy can be made by hand."""
+        return set(self.file_urls()) == set(self.checksums)
+
+    @property
     def checksums(self) -> dict[str, str]:
         """``{file: SHA-256 hex}`` of every expected file (package data ``data/catalog/<name>.sha256``)."""
         return dict(_checksums(self.name))

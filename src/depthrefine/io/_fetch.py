@@ -204,7 +204,7 @@ def fetch_dataset(name: str, to: str | os.PathLike, *, base_url: str | None = No
     dataset = get_dataset(name)
     if dataset.fetch_refused:
         each = (f" (`depthrefine data list {dataset.name} --sources` gives each file's source)"
-                if set(dataset.file_urls()) == set(dataset.checksums) else "")
+                if dataset.sourced else "")
         raise ValueError(f"{dataset.name} is not downloaded: {dataset.fetch_refused}. Get it from "
                          f"{dataset.original} under its terms, lay it out as {dataset.folder}/{each} and check it "
                          "with `depthrefine data verify DIR`.")
