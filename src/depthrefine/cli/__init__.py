@@ -103,7 +103,8 @@ def _modules_for(argv: Sequence[str] | None) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    if argv is None:   # the process's own command line: it exits after this
+    own_process = argv is None   # the process's own command line: it exits after this
+    if own_process:
         # numba leaves hundreds of thousands of objects; the collection at the interpreter's exit walked them
         # all (half a second). Frozen, they are left to the process's end.
         atexit.register(gc.freeze)
@@ -114,6 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # --help, --version, or a usage error (already printed, status 2)
         return exc.code if isinstance(exc.code, int) else 2
     args.debug = bool(getattr(args, "debug", False))
+    args.own_process = own_process   # a command may then set the process up for itself alone (refine: numba)
     from .._validate import pixel_limit
 
     try:

@@ -43,7 +43,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    warm = _warm_up_numba(args.method)
+    warm = _warm_up_numba(args.method, own_process=getattr(args, "own_process", False))
     try:
         return _run(args)
     finally:
@@ -51,18 +51,30 @@ def run(args: argparse.Namespace) -> int:
             warm.join()
 
 
-def _warm_up_numba(method: str) -> threading.Thread | None:
-    """For a method that runs compiled kernels, numba's one-time set-up in a thread (while the images are read)."""
+def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Thread | None:
+    """For a method that runs compiled kernels, numba's one-time set-up in a thread (while the images are read).
+
+    In the process's own command line (``own_process``), which runs only
+    depthrefine's kernels, numba is imported without cffi and PyYAML and
+    set up without its BLAS check (``_numba_setup``; ``_numba.warm_up``).
+    """
     from ..methods._names import COMPILED_METHODS
 
     if method not in COMPILED_METHODS:
         return None
+    if own_process:
+        try:
+            from .._numba_setup import import_numba_lean
+
+            import_numba_lean()
+        except Exception:   # no numba: the refine itself says what is wrong
+            pass
 
     def warm() -> None:
         try:
             from .._numba import warm_up
 
-            warm_up(skip_blas_check=True)   # this process runs only depthrefine's kernels
+            warm_up(skip_blas_check=own_process)
         except Exception:   # no numba, no cache: the refine itself says what is wrong
             pass
 
