@@ -94,3 +94,34 @@ def test_holes_stay_holes_and_the_output_is_deterministic(scene):
     assert np.array_equal(np.isnan(thinned.depth), np.isnan(depth_lr))
     assert np.isfinite(thinned.filled).all()
     assert np.array_equal(upsample_gbp(depth_lr, scene.rgb_hr), upsample_gbp(depth_lr, scene.rgb_hr))
+
+
+def test_the_search_gives_the_same_offsets_on_any_number_of_threads(scene):
+    from depthrefine import _numba
+    from depthrefine.methods.gbp.fattening import edge_offsets
+
+    m = measure_input(as_depth(_fattened(scene.depth_hr_gt, SCALE, grow=SCALE, larger_wins=True)), scene.rgb_hr)
+    shared = edge_offsets(m, scene.rgb_hr)
+    previous = _numba.set_threads(1)
+    try:
+        alone = edge_offsets(m, scene.rgb_hr)
+    finally:
+        _numba.set_threads(previous)
+    assert shared[0].size > 100
+    assert all(np.array_equal(a, b) for a, b in zip(shared, alone))
+
+
+def test_gbp_fast_thins_as_gbp_measures(scene, monkeypatch):
+    """gbp-fast takes its cheap work-grid measure only when it clearly says "registered"; else gbp's."""
+    from depthrefine.methods.gbp.fast import upsample_gbp_fast
+    from depthrefine.methods.gbp.fattening import clearly_unfattened
+
+    registered = measure_input(as_depth(_footprint_means(scene.depth_hr_gt, SCALE)), scene.rgb_hr)
+    fattened_lr = _fattened(scene.depth_hr_gt, SCALE, grow=SCALE, larger_wins=True)
+    fattened = measure_input(as_depth(fattened_lr), scene.rgb_hr)
+    work = scene.rgb_hr[::2, ::2]
+    assert clearly_unfattened(registered, work) and not clearly_unfattened(fattened, work)
+    thinned = upsample_gbp_fast(fattened_lr, scene.rgb_hr)
+    monkeypatch.setattr(fattening, "FATTEN_MIN", np.inf)           # the same call without step 1b
+    kept = upsample_gbp_fast(fattened_lr, scene.rgb_hr)
+    assert _rmse(thinned, scene.depth_hr_gt) < 0.6 * _rmse(kept, scene.depth_hr_gt)

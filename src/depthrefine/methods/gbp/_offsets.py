@@ -1,7 +1,9 @@
 """The per-pixel search of step 1b (numba): how far the color edge lies from each depth jump pixel.
 
 Imported only when gbp runs (it imports numba). One pass over the jump band,
-no image-sized temporaries; sequential, so deterministic.
+no image-sized temporaries; its rows are shared out over threads
+(:func:`~depthrefine._numba.run_split`) and the results gathered in row
+order, so the offsets are those of a sequential pass, whatever the threads.
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..._numba import njit
+from ..._numba import njit, run_split
 
 __all__ = ["jump_offsets"]
 
@@ -30,12 +32,14 @@ def _bilinear(image, x, y):  # pragma: no cover - compiled
 
 
 @njit
-def _search(band, magnitude, gx, gy, edges, reach, peak_ratio, offsets, angles):  # pragma: no cover - compiled
-    rows, cols = band.shape
+def _search(band, magnitude, gx, gy, edges, reach, peak_ratio, row_start, offsets, angles, found,
+            i0, i1):  # pragma: no cover - compiled
+    """Rows ``i0:i1``: row ``i``'s results go to ``offsets[row_start[i]:]`` in column order, their count to ``found[i]``."""
+    cols = band.shape[1]
     steps = 2 * reach + 1
     profile = np.empty(steps, np.float64)
-    found = 0
-    for i in range(rows):
+    for i in range(i0, i1):
+        n = row_start[i]
         for j in range(cols):
             here = magnitude[i, j]
             if not band[i, j] or here <= 0.0:
@@ -56,10 +60,10 @@ def _search(band, magnitude, gx, gy, edges, reach, peak_ratio, offsets, angles):
             before, top, after = profile[peak - 1], profile[peak], profile[peak + 1]
             curvature = before - 2.0 * top + after
             shift = 0.5 * (before - after) / curvature if curvature < 0.0 else 0.0
-            offsets[found] = peak - reach + shift
-            angles[found] = math.atan2(ny, nx)
-            found += 1
-    return found
+            offsets[n] = peak - reach + shift
+            angles[n] = math.atan2(ny, nx)
+            n += 1
+        found[i] = n - row_start[i]
 
 
 def jump_offsets(band: np.ndarray, magnitude: np.ndarray, gx: np.ndarray, gy: np.ndarray, edges: np.ndarray,
@@ -74,7 +78,12 @@ def jump_offsets(band: np.ndarray, magnitude: np.ndarray, gx: np.ndarray, gy: np
     of the grid, sub-pixel by a parabola through the peak, positive along
     the gradient) and the gradient's angles (radians), float64.
     """
-    count = int(np.count_nonzero(band))
-    offsets, angles = np.empty(count), np.empty(count)
-    found = _search(band, magnitude, gx, gy, edges, int(reach), float(peak_ratio), offsets, angles)
-    return offsets[:found], angles[:found]
+    per_row = np.count_nonzero(band, axis=1)
+    row_start = np.concatenate([[0], np.cumsum(per_row)[:-1]]).astype(np.int64)
+    offsets, angles = np.empty(int(per_row.sum())), np.empty(int(per_row.sum()))
+    found = np.zeros(band.shape[0], np.int64)
+    run_split(_search, band.shape[0], band, magnitude, gx, gy, edges, int(reach), float(peak_ratio), row_start,
+              offsets, angles, found)
+    # row by row, in the order of a sequential pass: the same arrays however the rows were shared out
+    keep = np.repeat(row_start - np.concatenate([[0], np.cumsum(found)[:-1]]), found) + np.arange(found.sum())
+    return offsets[keep], angles[keep]

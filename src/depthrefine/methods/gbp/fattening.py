@@ -33,7 +33,7 @@ import numpy as np
 from .measure import InputMeasures, near_jump
 from .solve import resize
 
-__all__ = ["edge_offset", "edge_offsets", "thin_fattened"]
+__all__ = ["edge_offset", "offset_axes", "clearly_unfattened", "edge_offsets", "thin_fattened"]
 
 #: An offset of the color edges below this many depth pixels is left alone (registered benchmark inputs: <= 0.40).
 FATTEN_MIN = 0.5
@@ -56,7 +56,34 @@ MIN_AXES = 3
 
 
 def edge_offset(m: InputMeasures, guide: np.ndarray) -> float:
-    """How far the color edges lie from the input's large depth jumps, depth pixels, signed.
+    """How far the color edges lie from the input's large depth jumps, depth pixels, signed (see :func:`offset_axes`).
+
+    The median over the axes of :func:`offset_axes`, and 0.0 when fewer than
+    :data:`MIN_AXES` axes have both sectors (an outline facing one way, a
+    single straight edge say, cannot tell a fattening from a shift or a
+    shadow). Positive: the color edges lie on the side of the larger
+    values, i.e. the larger values spill over the smaller.
+    """
+    axes = offset_axes(m, guide)
+    return float(np.median(axes)) if len(axes) >= MIN_AXES else 0.0
+
+
+def clearly_unfattened(m: InputMeasures, guide: np.ndarray) -> bool:
+    """Whether a cheap measure on a reduced ``guide`` already says there is no fattening to thin.
+
+    True when :func:`offset_axes` on ``guide`` (gbp-fast's work grid) finds at
+    least :data:`MIN_AXES` axes and their median is at most half of
+    :data:`FATTEN_MIN`: the full-resolution measure, which differs from it by
+    up to 0.2 depth pixels on the benchmark's inputs, would not reach the
+    threshold either. Otherwise (too few axes on the coarse grid, or an
+    offset near the line) only the full-resolution measure decides.
+    """
+    axes = offset_axes(m, guide)
+    return len(axes) >= MIN_AXES and abs(float(np.median(axes))) <= FATTEN_MIN / 2
+
+
+def offset_axes(m: InputMeasures, guide: np.ndarray) -> list[float]:
+    """The offset of the color edges from the input's large depth jumps per axis that has both sectors, depth pixels.
 
     The offsets of :func:`edge_offsets` are grouped by the direction of the
     depth gradient into :data:`DIRECTIONS` sectors (centred on the image
@@ -64,12 +91,7 @@ def edge_offset(m: InputMeasures, guide: np.ndarray) -> float:
     alike, while a shift of the whole map moves opposite sides' edges in
     opposite directions, so the offset is measured per axis, as the mean of
     two opposite sectors' medians (a shift cancels), each sector holding
-    counted pixels along :data:`MIN_SECTOR_PIXELS` depth pixels of outline;
-    the result is the median over the axes, and 0.0 when fewer than
-    :data:`MIN_AXES` axes have both sectors (an outline facing one way, a
-    single straight edge say, cannot tell a fattening from a shift or a
-    shadow). Positive: the color edges lie on the side of the larger
-    values, i.e. the larger values spill over the smaller.
+    counted pixels along :data:`MIN_SECTOR_PIXELS` depth pixels of outline.
     """
     offsets, angles = edge_offsets(m, guide)
     enough = MIN_SECTOR_PIXELS * min(PROFILE_STEPS, guide.shape[0] / m.depth.shape[0])   # depth pixels of outline
@@ -78,8 +100,7 @@ def edge_offset(m: InputMeasures, guide: np.ndarray) -> float:
                for i in range(DIRECTIONS)]
     half = DIRECTIONS // 2
     axes = [(medians[i] + medians[i + half]) / 2.0 for i in range(half)]
-    axes = [a for a in axes if np.isfinite(a)]
-    return float(np.median(axes)) if len(axes) >= MIN_AXES else 0.0
+    return [float(a) for a in axes if np.isfinite(a)]
 
 
 def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
