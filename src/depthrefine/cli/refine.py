@@ -56,7 +56,7 @@ def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Threa
 
     In the process's own command line (``own_process``), which runs only
     depthrefine's kernels, numba is imported without cffi and PyYAML and
-    set up without its BLAS check (``_numba_setup``; ``_numba.warm_up``).
+    set up without its BLAS check (``cli._numba_lean``; ``_numba.warm_up``).
     """
     from ..methods._names import COMPILED_METHODS
 
@@ -64,7 +64,7 @@ def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Threa
         return None
     if own_process:
         try:
-            from .._numba_setup import import_numba_lean
+            from ._numba_lean import import_numba_lean
 
             import_numba_lean()
         except Exception:   # no numba: the refine itself says what is wrong

@@ -9,7 +9,7 @@ import textwrap
 _CHILD = textwrap.dedent("""
     import importlib.util, os, sys
     os.chdir(sys.argv[1])
-    from depthrefine._numba_setup import import_numba_lean
+    from depthrefine.cli._numba_lean import import_numba_lean
     import_numba_lean()
     import numba
     print("cffi" in sys.modules, "yaml" in sys.modules)
@@ -43,7 +43,7 @@ def test_numba_config_file_keeps_yaml(tmp_path):
 def test_noop_once_numba_is_imported():
     import numba  # noqa: F401
 
-    from depthrefine._numba_setup import import_numba_lean
+    from depthrefine.cli._numba_lean import import_numba_lean
 
     modules = dict(sys.modules)
     import_numba_lean()

@@ -10,8 +10,8 @@ SciPy's linear algebra, is skipped by
 ``depthrefine._numba.warm_up(skip_blas_check=True)``.
 ``python benchmarks/bench_startup.py --first-call`` measures what it saves.
 
-This module imports nothing heavy: the command line calls it before numba
-is imported.
+This module imports nothing heavy: the ``refine`` command calls it, in its
+own process only, before numba is imported.
 """
 
 from __future__ import annotations
