@@ -7,7 +7,7 @@ gbp's own steps on a reduced grid, then one edge-aware solve at full resolution:
    direct-ToF camera's fattened side (gbp's step 1b, :mod:`.fattening`): a
    cheap measure on the work grid of step 2 first, and where it does not
    clearly say "no fattening", gbp's own measure on the full-resolution
-   guide (on the work grid alone, 5 of the 15 direct-ToF cases of the
+   guide (on the work grid alone, 4 of the 15 direct-ToF cases of the
    ``sensor`` protocol went unmeasured);
 2. reduce the guide by an integer factor ``k >= 2`` (area mean), so that the
    work grid is at least ``work_scale`` times the depth grid;
