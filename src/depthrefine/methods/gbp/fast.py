@@ -177,8 +177,10 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
     else:
         guide_work = np.ascontiguousarray(resize(guide, work, cv2.INTER_AREA))       # 2
     m = measure_input(depth, noise_rows(guide))                                      # 1
-    if not clearly_unfattened(m, guide_work):   # 1b: the cheap measure on the work grid first
-        m = thin_fattened(m, guide)             # then gbp's own, on the full-resolution guide
+    # 1b: the cheap measure on the work grid first (none where that is the full grid: the same measure twice),
+    # then gbp's own, on the full-resolution guide
+    if guide_work is guide or not clearly_unfattened(m, guide_work):
+        m = thin_fattened(m, guide)
     solver = make_solver(guide_work, m, g, GUIDE_NOISE, coarse=False)   # the work grid is reduced already
     bounds = local_bounds(m.depth, work)
     x = back_project(m, solver, g, bounds, None if progress is None else lambda k, _: step(k),    # 3
