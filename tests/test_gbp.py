@@ -229,7 +229,8 @@ def _with_clips(depth_lr, rgb, *, rounds: bool, final: bool):
     p = GbpParams()
     solver = solve.make_solver(rgb, m, p, solve.GUIDE_NOISE)
     bounds = solve.local_bounds(m.depth, solver.shape)
-    free = (np.full(solver.shape, -np.inf, np.float32), np.full(solver.shape, np.inf, np.float32))
+    free = solve.Bounds(np.full(m.depth.shape, -np.inf, np.float32), np.full(m.depth.shape, np.inf, np.float32),
+                        bounds.rows, bounds.cols)
     result = solve.flat_blend(solve.back_project(m, solver, p, bounds if rounds else free), m, solver, p)
     if final:
         solve.clip_to_bounds(result, bounds)

@@ -221,6 +221,11 @@ class Bounds:
         index = np.ix_(self.rows, self.cols)
         return self.low[index], self.high[index]
 
+    def on(self, shape: tuple[int, int]) -> Bounds:
+        """The same bounds on the grid of ``shape`` = (rows, cols) instead."""
+        (h, w), (H, W) = self.low.shape, shape
+        return Bounds(self.low, self.high, nearest_index(h, H), nearest_index(w, W))
+
 
 def nearest_index(n: int, size: int) -> np.ndarray:
     """The source index of each of ``size`` pixels in ``cv2.resize(..., INTER_NEAREST)`` from ``n`` pixels (int32).
@@ -264,35 +269,15 @@ def local_bounds(depth: np.ndarray, shape: tuple[int, int], hole_margin: int = 0
     return Bounds(np.ascontiguousarray(low), np.ascontiguousarray(high), nearest_index(h, H), nearest_index(w, W))
 
 
-def clip_to_bounds(x: np.ndarray, bounds: Bounds | tuple[np.ndarray, np.ndarray], low: float = -np.inf,
-                   high: float = np.inf) -> None:
-    """Clip ``x`` in place to ``[low, high]``, then to ``bounds`` (:func:`local_bounds`, or (low, high) arrays).
+def clip_to_bounds(x: np.ndarray, bounds: Bounds, low: float = -np.inf, high: float = np.inf) -> None:
+    """Clip ``x`` in place to ``[low, high]``, then to ``bounds`` (:func:`local_bounds`).
 
     The same bits as ``np.clip(x, low, high)`` followed by ``np.clip`` to the
-    bounds' image-sized arrays, in one pass without them.
+    bounds' image-sized arrays (:meth:`Bounds.full`), in one pass without them.
     """
-    import cv2
+    from .. import _resample
 
-    if isinstance(bounds, Bounds):
-        from .. import _resample
-
-        _resample.clip_nearest(x, low, high, bounds.low, bounds.high, bounds.rows, bounds.cols)
-        return
-    if low > -np.inf or high < np.inf:
-        np.clip(x, low, high, out=x)
-    cv2.max(x, bounds[0], dst=x)
-    cv2.min(x, bounds[1], dst=x)
-
-
-def _bounds_on(bounds: Bounds | tuple[np.ndarray, np.ndarray], depth_shape: tuple[int, int],
-               shape: tuple[int, int]) -> Bounds | tuple[np.ndarray, np.ndarray]:
-    """``bounds`` (of the input's grid ``depth_shape``, on some grid) on the grid of ``shape`` instead."""
-    import cv2
-
-    if isinstance(bounds, Bounds):
-        return Bounds(bounds.low, bounds.high, nearest_index(depth_shape[0], shape[0]),
-                      nearest_index(depth_shape[1], shape[1]))
-    return resize(bounds[0], shape, cv2.INTER_NEAREST), resize(bounds[1], shape, cv2.INTER_NEAREST)
+    _resample.clip_nearest(x, low, high, bounds.low, bounds.high, bounds.rows, bounds.cols)
 
 
 def reduce(x: np.ndarray, shape: tuple[int, int], footprint: float) -> np.ndarray:
@@ -312,7 +297,7 @@ def _coarse(solver: Solver, m: InputMeasures) -> Solver | None:
     return solver.reduced if m.footprint >= COARSE_MIN_FOOTPRINT else None
 
 
-def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds | tuple[np.ndarray, np.ndarray],
+def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds,
                  progress: Progress | None = None, *, solve_iterations: int | None = None) -> np.ndarray:
     """Steps 2-3: the clipped bicubic start, then ``p.iterations`` back-projection rounds.
 
@@ -333,7 +318,7 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds 
     and the estimate is then enlarged by
     :func:`~depthrefine.methods._resample.guided_enlarge` (each pixel from the
     reduced pixels of its own color). ``bounds`` is :func:`local_bounds` of
-    ``m.depth`` on the solver's grid (or a (low, high) pair of arrays).
+    ``m.depth`` on the solver's grid.
     Returns (H, W) float32.
     """
     import cv2
@@ -348,10 +333,10 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds 
     coarse = _coarse(solver, m)
     first = min(COARSE_ROUNDS, p.iterations - 1) if coarse is not None else 0
     grid = coarse if first > 0 else solver
-    grid_bounds = bounds if grid is solver else _bounds_on(bounds, m.depth.shape, grid.shape)
+    grid_bounds = bounds if grid is solver else bounds.on(grid.shape)
     # the residual's clip spares the pixels within one input pixel of a hole (measured once, on the input's grid)
     hole_bounds = None if m.valid.all() else local_bounds(m.depth, shape, hole_margin=1)
-    residual_bounds = grid_bounds if hole_bounds is None else _bounds_on(hole_bounds, m.depth.shape, grid.shape)
+    residual_bounds = grid_bounds if hole_bounds is None else hole_bounds.on(grid.shape)
     x = clamped_bicubic(m.filled, grid.shape, m.jump, neighbourhood=m.neighbourhood)
     for k in range(p.iterations):
         if k == first and grid is not solver:
