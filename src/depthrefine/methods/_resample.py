@@ -17,7 +17,7 @@ import numpy as np
 
 from .._numba import njit, run_split
 from .._validate import check_number
-from ._wls import _color_lut, _guide, _parallel
+from ._wls import _check_in_place, _color_lut, _guide, _parallel
 
 __all__ = ["guided_enlarge", "clip_nearest", "clip_toward"]
 
@@ -171,8 +171,7 @@ def clip_nearest(x: np.ndarray, low: float, high: float, lower: np.ndarray, uppe
     ...              np.zeros(2, np.int32), np.array([0, 0, 1], np.int32)); x.tolist()
     [[1.0, 1.0, 2.0], [3.0, 3.0, 4.5]]
     """
-    if not (x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous and x.flags.writeable):
-        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is clipped in place).")
+    _check_in_place(x, "clipped")
     if x.shape != (len(rows), len(cols)):
         raise ValueError(f"rows and cols must map x's {x.shape} rows and columns; got {len(rows)} and {len(cols)}.")
     lower = np.ascontiguousarray(lower, dtype=np.float32)
@@ -208,8 +207,7 @@ def clip_toward(x: np.ndarray, weight: np.ndarray, lower: np.ndarray, upper: np.
     ...             np.full((1, 1), 6, np.float32), np.zeros(1, np.int32), np.zeros(3, np.int32)); x.tolist()
     [[2.0, 5.0, 8.0]]
     """
-    if not (x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous and x.flags.writeable):
-        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is changed in place).")
+    _check_in_place(x, "changed")
     if x.shape != (len(rows), len(cols)) or weight.shape != x.shape:
         raise ValueError(f"weight must be of x's shape {x.shape} and rows, cols map its rows and columns; got "
                          f"{weight.shape}, {len(rows)} and {len(cols)}.")

@@ -314,6 +314,13 @@ def _weights(shape: tuple[int, int], wx: np.ndarray, wy: np.ndarray) -> tuple[np
     return out[0], out[1]
 
 
+def _check_in_place(x: np.ndarray, done: str) -> None:
+    """A ``ValueError`` unless ``x`` is a writeable, C-contiguous 2-D float32 array (it is ``done`` in place)."""
+    if not (isinstance(x, np.ndarray) and x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous
+            and x.flags.writeable):
+        raise ValueError(f"x must be a writeable, C-contiguous 2-D float32 array (it is {done} in place).")
+
+
 def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, iterations: int = 3,
            attenuation: float = 0.25) -> np.ndarray:
     """Weighted least-squares smoothing of ``src`` with edge weights ``wx``, ``wy`` (see the module docstring).
@@ -477,9 +484,7 @@ def smooth_with_gradient(x: np.ndarray, wx: np.ndarray, wy: np.ndarray, sigma: f
     >>> smooth_with_gradient(x, wx, wy, 5.0, 100.0) is x, bool((x == ref).all())
     (True, True)
     """
-    if not (isinstance(x, np.ndarray) and x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous
-            and x.flags.writeable):
-        raise ValueError("x must be a writeable, C-contiguous 2-D float32 array (it is solved in place).")
+    _check_in_place(x, "solved")
     wx, wy = _weights(x.shape, wx, wy)
     sigma, lam32, iterations, attenuation32 = _solve_arguments(x, "x", sigma, lam, iterations, attenuation)
     if x.size == 0:
