@@ -167,6 +167,32 @@ def test_an_interrupt_leaves_the_record_true_to_the_files_and_the_job_resumes(cl
     assert (summary.refined, summary.already_done, summary.exit_status) == (3, 2, 0)
 
 
+def test_a_ctrl_c_that_a_finalizer_dropped_still_stops_the_batch_at_its_next_frame():
+    import signal
+    import sys
+
+    from depthrefine.cli.batch import _interrupt_latch
+
+    class Released:   # as a Dask future the garbage collector releases while Ctrl-C comes
+        def __del__(self):
+            signal.raise_signal(signal.SIGINT)
+            sum(range(1000))   # the handler runs in here: Python prints its KeyboardInterrupt and drops it
+
+    before, hook = signal.getsignal(signal.SIGINT), sys.unraisablehook
+    dropped = []
+    sys.unraisablehook = dropped.append   # what Python would print
+    try:
+        with _interrupt_latch() as check:
+            check()                # nothing came yet
+            Released()             # the interrupt is dropped, silently ...
+            with pytest.raises(KeyboardInterrupt):
+                check()            # ... and the latch raises it at the next frame
+        assert dropped == []
+        assert signal.getsignal(signal.SIGINT) is before and sys.unraisablehook == dropped.append
+    finally:
+        sys.unraisablehook = hook
+
+
 def test_unpaired_frames_are_listed_not_failures(client, frames, tmp_path):
     src = write_folder(tmp_path / "seq", [(f.depth_lr, f.rgb_hr) for f in frames[:2]])
     seq = open_sequence(src)

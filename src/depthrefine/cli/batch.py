@@ -9,8 +9,10 @@ remote Dask cluster; then it reports.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import re
 import sys
+from typing import Callable, Iterator
 
 from ..io._names import DEFAULT_MAX_DT
 from ..methods._names import DEFAULT_METHOD
@@ -110,6 +112,47 @@ def _positive_float(text: str) -> float:
     return value
 
 
+@contextlib.contextmanager
+def _interrupt_latch() -> Iterator[Callable[[], None]]:
+    """Ctrl-C remembered for the block; the callable given raises ``KeyboardInterrupt`` once one came.
+
+    Python delivers Ctrl-C as a ``KeyboardInterrupt`` wherever the main thread
+    is, and one raised in a finalizer (a Dask future released by the garbage
+    collector, say) is printed and dropped: the batch would run on to the end.
+    The batch calls the check after every frame, so a Ctrl-C stops it within
+    a frame wherever it landed, and a dropped one is not printed (the
+    interrupt's own one-line message follows). Outside the main thread,
+    nothing is latched.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield lambda: None
+        return
+    came = threading.Event()
+
+    def latch(signum, frame):
+        came.set()
+        raise KeyboardInterrupt
+
+    def check() -> None:
+        if came.is_set():
+            raise KeyboardInterrupt
+
+    def unraisable(info) -> None:
+        if not (came.is_set() and isinstance(info.exc_value, KeyboardInterrupt)):
+            hook(info)
+
+    previous, hook = signal.signal(signal.SIGINT, latch), sys.unraisablehook
+    sys.unraisablehook = unraisable
+    try:
+        yield check
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        sys.unraisablehook = hook
+
+
 def run(args: argparse.Namespace) -> int:
     from ..batch import BatchJob, ClusterLost, local_client
     from ..io import open_sequence
@@ -128,8 +171,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"depthrefine batch: warning: {warning}.", file=sys.stderr)
     update, close = progress_bar(f"batch ({job.method.name})", unit="frame")
     try:
-        with local_client(args.workers, args.scheduler) as client:
-            summary = job.run(client, progress=update)
+        with _interrupt_latch() as check, local_client(args.workers, args.scheduler) as client:
+            summary = job.run(client, progress=lambda done, total: (check(), update(done, total)))
     except KeyboardInterrupt:
         close()
         print(f"depthrefine batch: interrupted; {job.describe_progress()}: run the same command again to resume.",
