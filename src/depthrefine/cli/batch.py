@@ -172,7 +172,12 @@ def run(args: argparse.Namespace) -> int:
     update, close = progress_bar(f"batch ({job.method.name})", unit="frame")
     try:
         with _interrupt_latch() as check, local_client(args.workers, args.scheduler) as client:
-            summary = job.run(client, progress=lambda done, total: (check(), update(done, total)))
+
+            def progress(done: int, total: int) -> None:
+                check()   # a Ctrl-C dropped on the way stops the batch at its next frame
+                update(done, total)
+
+            summary = job.run(client, progress=progress)
     except KeyboardInterrupt:
         close()
         print(f"depthrefine batch: interrupted; {job.describe_progress()}: run the same command again to resume.",
