@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import InputFileError, atomic_write, check_output, existing_input
+from ._files import InputFileError, check_output, existing_input
+from ._images import write_bytes
 
 __all__ = ["write_ply", "encode_ply", "read_ply"]
 
@@ -52,8 +53,7 @@ def write_ply(
         Existing file without ``overwrite``, wrong suffix, bad shapes.
     """
     p = check_output(path, overwrite=overwrite, what="output", suffixes=(".ply",))
-    blob = encode_ply(points, colors, comments=comments)
-    return atomic_write(p, lambda tmp: tmp.write_bytes(blob))
+    return write_bytes(p, encode_ply(points, colors, comments=comments), overwrite=overwrite)
 
 
 def encode_ply(points: np.ndarray, colors: np.ndarray | None = None, *, comments: tuple[str, ...] = ()) -> bytes:
