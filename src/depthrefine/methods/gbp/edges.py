@@ -63,7 +63,7 @@ def snap_edges(result: np.ndarray, m: InputMeasures, guide: np.ndarray, scale: f
     import cv2
 
     from .. import _wls
-    from ._geodesic import nearest_seed
+    from ..._geodesic import color_step_costs, nearest_seed
 
     band_lr = m.large_jumps
     if not band_lr.any():
@@ -71,11 +71,7 @@ def snap_edges(result: np.ndarray, m: InputMeasures, guide: np.ndarray, scale: f
     shape = result.shape
     band = resize(band_lr.astype(np.uint8), shape, cv2.INTER_NEAREST) > 0
     guide = cv2.GaussianBlur(guide, (0, 0), GUIDE_BLUR).astype(np.float32)
-    cost_x = np.sqrt(np.sum(np.square(guide[:, 1:] - guide[:, :-1]), axis=2)) + STEP_LEVELS
-    cost_y = np.sqrt(np.sum(np.square(guide[1:] - guide[:-1]), axis=2)) + STEP_LEVELS
-    cost_x = np.pad(cost_x, ((0, 0), (0, 1))).astype(np.float32)
-    cost_y = np.pad(cost_y, ((0, 1), (0, 0))).astype(np.float32)
-    source = nearest_seed(cost_x, cost_y, band)
+    source = nearest_seed(*color_step_costs(guide, blur=0, step_levels=STEP_LEVELS), band)
 
     # which surface each band pixel is joined to: the depth of its geodesic nearest pixel outside the band, then
     # smoothed along that surface only (no weight across the new boundary), so the copies leave no streaks

@@ -1,15 +1,17 @@
-"""The geodesic nearest seed on a color image (numba): which side of a depth jump a pixel belongs to.
+"""The geodesic nearest seed on a color image (numba): which side of an edge a pixel belongs to.
 
-Imported only when gbp runs (it imports numba).
+Shared by gbp's edge snapping (:mod:`depthrefine.methods.gbp.edges`) and the
+chain's unmeasured pixels (:mod:`depthrefine.rig.chain`), which sit in
+different domains. Imported only where one of them runs (it imports numba).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..._numba import njit
+from ._numba import njit
 
-__all__ = ["nearest_seed"]
+__all__ = ["nearest_seed", "color_step_costs"]
 
 
 @njit
@@ -69,3 +71,30 @@ def nearest_seed(cost_x: np.ndarray, cost_y: np.ndarray, free: np.ndarray, sweep
     _sweeps(np.ascontiguousarray(cost_x, dtype=np.float32), np.ascontiguousarray(cost_y, dtype=np.float32),
             free, distance, source, sweeps)
     return source
+
+
+def color_step_costs(color: np.ndarray, *, blur: float, step_levels: float) -> tuple[np.ndarray, np.ndarray]:
+    """The costs ``(cost_x, cost_y)`` of :func:`nearest_seed` on a color image: a path crosses its edges dearly.
+
+    A step costs the Euclidean distance of the two pixels' colors (levels of
+    ``color``, (H, W, 3), after a Gaussian blur of sigma ``blur`` pixels, so
+    that fine texture makes no path) plus ``step_levels``, so that where the
+    color is flat the nearest seed is the nearest in distance. float32, the
+    last column of ``cost_x`` and the last row of ``cost_y`` are 0 (unused).
+
+    Examples
+    --------
+    >>> color = np.zeros((1, 4, 3), np.uint8); color[:, 2:] = 100
+    >>> cost_x, _ = color_step_costs(color, blur=0, step_levels=2)
+    >>> cost_x.astype(np.float64).round(1).tolist()
+    [[2.0, 175.2, 2.0, 0.0]]
+    """
+    import cv2
+
+    c = np.asarray(color, np.float32)
+    if blur > 0:
+        c = cv2.GaussianBlur(c, (0, 0), blur)
+    cost_x = np.sqrt(np.sum(np.square(c[:, 1:] - c[:, :-1]), axis=2)) + np.float32(step_levels)
+    cost_y = np.sqrt(np.sum(np.square(c[1:] - c[:-1]), axis=2)) + np.float32(step_levels)
+    return (np.pad(cost_x, ((0, 0), (0, 1))).astype(np.float32, copy=False),
+            np.pad(cost_y, ((0, 1), (0, 0))).astype(np.float32, copy=False))
