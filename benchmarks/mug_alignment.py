@@ -52,8 +52,9 @@ def main() -> None:
             continue
         for method in args.methods.split(","):
             dense = refine_pair(pair.depth_lr, pair.rgb_hr, method=method)[0]  # as run does
-            for label, depth in (("holes kept (run)", keep_unmeasured(dense, pair.depth_lr)),
-                                 ("--fill-holes", dense)):
+            for label, depth in (("holes kept (run)", keep_unmeasured(dense, pair.depth_lr, rgb_hr=pair.rgb_hr)),
+                                 ("--fill-holes", keep_unmeasured(dense, pair.depth_lr, fill_enclosed=True,
+                                                                  rgb_hr=pair.rgb_hr))):
                 fit = edge_overlap(depth, pair.rgb_hr, near=NEAR, far=FAR)
                 print(f"  refined with {method}, {label}: {100 * fit.fraction:.0f} % within 2 px, median "
                       f"{fit.median_px:.1f} px ({fit.pixels} outline pixels)")

@@ -79,8 +79,9 @@ def main() -> None:
     missing = None
     for method in args.methods.split(","):
         dense = refine_pair(pair.depth_lr, pair.rgb_hr, method=method)[0]
-        report(f"{method}, holes kept (run)", keep_unmeasured(dense, pair.depth_lr))
-        missing = report(f"{method}, --fill-holes", keep_unmeasured(dense, pair.depth_lr, fill_enclosed=True))
+        report(f"{method}, holes kept (run)", keep_unmeasured(dense, pair.depth_lr, rgb_hr=pair.rgb_hr))
+        missing = report(f"{method}, --fill-holes", keep_unmeasured(dense, pair.depth_lr, fill_enclosed=True,
+                                                                    rgb_hr=pair.rgb_hr))
     if args.figure and missing is not None:
         import cv2
 

@@ -33,7 +33,9 @@ from depthrefine.rig import (
     undistort_depth,
     undistort_image,
 )
+from depthrefine._geodesic import color_step_costs
 from depthrefine.rig import CameraModel, StereoRig
+from depthrefine.rig.chain import keep_unmeasured, unmeasured_along_color
 
 #: Background plane (Z, metres) and the nearer rectangle (Z, x0, x1, y0, y1), depth camera frame.
 Z_BACK = 2.0
@@ -388,6 +390,26 @@ def test_reproject_keeps_invalid_invalid():
     assert np.allclose(out[~lost], full[~lost], atol=2.0, equal_nan=True)
 
 
+def test_reproject_invalid_outline_hides_the_background_behind_it():
+    """A depth camera leaves the pixels empty that straddle an outline (the Azure Kinect 2-3 of them between a mug
+    and the wall). Reprojected, the wall beside the outline moves behind the near object by the parallax; where
+    the empty pixels leave no near sample, it must not show through as background depth inside the outline."""
+    near = (0.5, -0.08, 0.04, -0.06, 0.05)   # at 0.5 m: 4.8 px of parallax against the wall (21 pixels showed it)
+    z, front_raw = render_depth(DEPTH_CAM, distorted=True, front=near)
+    depth = np.floor(z * 1000 + 0.5).astype(np.uint16)
+    depth[edge_zone(front_raw, 2)] = 0   # the outline's pixels, on both sides
+    out = align_reproject(depth, RIG, depth_units=0.001)
+    _, grid = reproject_camera(RIG)
+    truth, front = render_depth(grid, RIG_R, RIG_T, distorted=False, front=near)
+    inside = front & ~edge_zone(front, 1)
+    with np.errstate(invalid="ignore"):
+        background_inside = inside & (out > 1500)
+    assert not background_inside.any(), np.argwhere(background_inside)
+    # the rectangle's own depth stays where it was measured, and the background away from it is whole
+    assert np.isfinite(out[inside]).mean() > 0.6
+    assert np.isfinite(out[~edge_zone(front, 10) & ~front]).all()   # beyond the parallax and the empty outline
+
+
 def test_reproject_radial_depth():
     z, _ = render_depth(DEPTH_CAM, distorted=True)
     rows, cols = np.mgrid[0:72, 0:96]
@@ -490,3 +512,64 @@ def test_a_ratio_below_1_5_renders_at_the_depth_resolution_and_the_method_upsamp
     with pytest.raises(ValueError, match="factor must be a number >= 1"):
         AlignSettings(factor=0.9)
     assert AlignSettings(factor=1.21).factor == 1.21
+
+
+# ----------------------------------------------------------------------------
+# The unmeasured pixels after a refinement (run)
+# ----------------------------------------------------------------------------
+
+
+def _strip_scene(scale: int = 4):
+    """A near square (500) before a wall (2000) on a 24x24 depth grid with the two pixels between them empty (the
+    strip a depth camera leaves at an outline), a 2x2 dropout inside the wall, the refinement's dense result
+    (1000 where nothing was measured) and the color image at ``scale``: the square's color edge lies in the
+    middle of the strip."""
+    depth_lr = np.full((24, 24), 2000.0, np.float32)
+    depth_lr[6:18, 6:18] = np.nan
+    depth_lr[8:16, 8:16] = 500.0
+    depth_lr[19:21, 2:4] = np.nan
+    size = 24 * scale
+    rgb = np.full((size, size, 3), (40, 90, 200), np.uint8)
+    rgb[7 * scale:17 * scale, 7 * scale:17 * scale] = (210, 40, 30)
+    dense = cv2.resize(np.nan_to_num(depth_lr, nan=1000.0), (size, size), interpolation=cv2.INTER_NEAREST)
+    return depth_lr, rgb, dense
+
+
+def test_keep_unmeasured_border_follows_the_color():
+    depth_lr, rgb, dense = _strip_scene()
+    plain = keep_unmeasured(dense, depth_lr)
+    guided = keep_unmeasured(dense, depth_lr, rgb_hr=rgb)
+    square = (rgb == (210, 40, 30)).all(axis=2)
+    assert np.isnan(plain[24:32, 24:72]).all()                     # the grid keeps the strip empty
+    assert np.isin(guided[square], (500, 2000)).all() and (guided[square] == 500).sum() >= square.sum() - 4
+    assert (guided[~square & np.isfinite(guided)] == 2000).all()   # the square up to its color edge (but for its
+    # 4 corner pixels), the wall up to it: each pixel holds the depth of a measured surface, nothing invented
+    assert np.isfinite(guided[20:76, 20:76]).all()                 # the strip is given to the two surfaces
+    assert np.isnan(guided[76:84, 8:16]).all() and np.isnan(plain[76:84, 8:16]).all()   # the dropout stays
+    # --fill-holes: the dropout takes the refinement's depth, the rest is the same
+    filled = keep_unmeasured(dense, depth_lr, rgb_hr=rgb, fill_enclosed=True)
+    assert (filled[76:84, 8:16] == 1000).all() and np.array_equal(filled[20:76, 20:76], guided[20:76, 20:76])
+
+
+def test_keep_unmeasured_border_moves_only_onto_a_color_edge_within_the_band():
+    depth_lr = np.full((24, 24), 2000.0, np.float32)
+    depth_lr[:, 12:] = np.nan                                      # a wide region no depth reached
+    rgb = np.full((96, 96, 3), 128, np.uint8)
+    dense = np.full((96, 96), 2000.0, np.float32)
+    grid_holes = np.isnan(keep_unmeasured(dense, depth_lr))
+    assert grid_holes[:, 48:].all() and not grid_holes[:, :48].any()
+    assert np.array_equal(np.isnan(keep_unmeasured(dense, depth_lr, rgb_hr=rgb)), grid_holes)   # flat color
+    rgb[:, 52:] = 250                                              # a color edge one depth pixel inside the hole
+    moved = np.isnan(keep_unmeasured(dense, depth_lr, rgb_hr=rgb))
+    assert not moved[:, :52].any() and moved[:, 52:].all()
+    rgb[:, 52:] = 128
+    rgb[:, 64:] = 250                                              # four depth pixels inside: beyond the band
+    assert np.array_equal(np.isnan(keep_unmeasured(dense, depth_lr, rgb_hr=rgb)), grid_holes)
+
+
+def test_unmeasured_along_color_keeps_a_thin_measured_part():
+    unmeasured = np.ones((1, 40), bool)
+    unmeasured[0, 19:21] = False                                   # two measured pixels between wide holes
+    costs = color_step_costs(np.zeros((1, 40, 3), np.uint8), blur=0, step_levels=2)
+    moved = unmeasured_along_color(unmeasured, costs, 6)
+    assert (~moved).sum() >= 1 and not moved[0, 19:21].all()      # its middle stays measured

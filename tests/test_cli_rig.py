@@ -215,10 +215,13 @@ def test_run_on_raw_captures_matches_the_color_view(captures, tmp_path, capsys):
     close = np.abs(refined.astype(np.float64) - truth) < 0.01 * truth
     far_from_edge = ~edge_zone(front, 7)
     assert close[far_from_edge].mean() > 0.99  # without the alignment: 0.53
-    # the edge follows the color edge: within 1 px almost everywhere
-    # (pixels no depth reached, the disocclusion and the raw map's 0 patch, stay 0: `run` does not fill them)
+    # the edge follows the color edge: within 1 px almost everywhere. No depth reached the 2-3 depth pixels beside
+    # the rectangle that the depth camera could not see (38 of the aligned map's pixels); a strip that narrow
+    # between two surfaces is given to them by the color (`rig.chain.BORDER_BAND`): here all to the wall, whose
+    # color it has, at the wall's depth
     measured = refined > 0
-    assert 0.97 < measured.mean() < 1.0
+    assert measured.all()
+    assert close[~edge_zone(front, 1)].mean() > 0.99
     refined_front = refined < 1500
     assert (refined_front == front)[~edge_zone(front, 1) & measured].mean() > 0.999  # without: 0.979
     # the point cloud: one point per valid pixel, in metres, colored

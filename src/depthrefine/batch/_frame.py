@@ -174,7 +174,7 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
     if plan.rig is not None:
         from ..rig.chain import keep_unmeasured
 
-        depth_hr = keep_unmeasured(depth_hr, depth, fill_enclosed=plan.fill_holes)
+        depth_hr = keep_unmeasured(depth_hr, depth, fill_enclosed=plan.fill_holes, rgb_hr=rgb)
     confidence = None
     if plan.confidence:
         confidence = confidence_on_grid(confidences[0], depth_hr)

@@ -188,7 +188,7 @@ def mug_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | None =
     update, close = progress_bar(f"demo mug: {method}") if progress_bar is not None else (None, lambda: None)
     try:  # as run does: the method upsamples the depth-resolution grid (x2 here)
         refined = keep_unmeasured(refine_pair(pair.depth_lr, pair.rgb_hr, method=method, progress=update)[0],
-                                  pair.depth_lr)
+                                  pair.depth_lr, rgb_hr=pair.rgb_hr)
     finally:
         close()
     aligned = nearest_on_grid(pair.depth_lr, pair.rgb_hr.shape[:2])  # as the refinement spreads it

@@ -78,8 +78,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--fill-holes", action="store_true",
                    help="fill the holes that lie inside one measured surface (a dropout on a dark or shiny spot) "
                         "with the refinement's depth; what lies beyond any measurement (outside the depth "
-                        "camera's view, hidden from it) stays invalid (0), as do all holes by default. "
-                        "Also fill_holes = true in the settings file's [refine]")
+                        "camera's view, hidden from it) stays invalid (0), as do all holes by default (their "
+                        "border follows the color edges within 2 depth pixels, so a strip that narrow between "
+                        "two surfaces goes to them). Also fill_holes = true in the settings file's [refine]")
     p.add_argument("--ply", metavar="FILE", help="also write the refined depth as a colored point cloud (.ply)")
     p.add_argument("--stride", type=int, default=1, metavar="N",
                    help="point cloud (--ply): keep every N-th row and column (default 1), as export-ply --stride")
@@ -158,7 +159,7 @@ def run_chain(args: argparse.Namespace) -> int:
     finally:
         close()
     fill_holes = args.fill_holes or chain.fill_holes
-    depth_hr = keep_unmeasured(depth_hr, pair.depth_lr, fill_enclosed=fill_holes)
+    depth_hr = keep_unmeasured(depth_hr, pair.depth_lr, fill_enclosed=fill_holes, rgb_hr=pair.rgb_hr)
     if confidence is not None:
         confidence = confidence_on_grid(confidence, depth_hr)   # 0 where the chain left no depth
         confidence_line = confidence_note(confidence, args.min_confidence)

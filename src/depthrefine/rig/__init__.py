@@ -40,7 +40,7 @@ _EXPORTS = {
                     "pixel_rays", "backproject", "project_points", "depth_to_points", "color_grid_points"),
     ".coverage": ("COVERAGE_CELLS", "coverage_grid", "uncovered_share", "coverage_figure"),
     ".chain": ("ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "upsampling_grid",
-               "refine_pair", "nearest_on_grid"),
+               "refine_pair", "nearest_on_grid", "keep_unmeasured", "unmeasured_along_color"),
 }
 __all__ = [name for names in _EXPORTS.values() for name in names]
 

@@ -23,10 +23,18 @@ from .shift import (COLOR_SIDES, ENCODINGS, MAX_SHIFT_MISREGISTRATION, align_shi
 from .undistort import undistort_depth, undistort_image
 
 __all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "unmeasured_on_grid",
-           "keep_unmeasured", "nearest_on_grid", "upsampling_grid", "refine_pair"]
+           "keep_unmeasured", "unmeasured_along_color", "nearest_on_grid", "upsampling_grid", "refine_pair"]
 
 #: The smallest factor the refinement of an aligned pair upsamples by (:func:`upsampling_grid`).
 MIN_UPSAMPLING = 2
+#: :func:`keep_unmeasured` with a color image moves the border of the unmeasured pixels onto the color edges within
+#: this many depth pixels on either side (the strip a depth camera leaves empty at an outline: the Azure Kinect
+#: 2-3 pixels between a mug and the wall behind it) ...
+BORDER_BAND = 2.0
+#: ... along paths whose step costs the color difference (8-bit levels, the color blurred by this sigma, px) ...
+BORDER_BLUR = 1.0
+#: ... plus this many levels.
+BORDER_STEP_LEVELS = 2.0
 
 
 @dataclass(frozen=True)
@@ -245,7 +253,8 @@ def unmeasured_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarr
     return cv2.resize(invalid.astype(np.uint8), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT).astype(bool)
 
 
-def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed: bool = False) -> np.ndarray:
+def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed: bool = False,
+                    rgb_hr: np.ndarray | None = None) -> np.ndarray:
     """``depth_hr`` (float32) with NaN wherever :func:`unmeasured_on_grid` says nothing was measured.
 
     A refinement fills every pixel; this takes back the depth it invented
@@ -256,17 +265,90 @@ def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed
     refinement's depth, which carries that surface on; what lies beyond any
     measurement (outside the view, a shadow beside a depth jump, a large
     unmeasured region) stays unmeasured.
+
+    With ``rgb_hr``, the color image on ``depth_hr``'s grid (``run`` passes
+    it), the border of the unmeasured pixels follows the color
+    (:func:`unmeasured_along_color`): the depth grid puts it only to a
+    depth pixel, and a depth camera leaves empty the pixels that straddle an
+    outline (the Azure Kinect 2-3 of them between a mug and the wall behind
+    it), so the object's outline lies somewhere in that strip, where the
+    color shows it. A pixel the border gives up takes the depth of the
+    measured pixel its color joins it to; one it takes becomes unmeasured.
     """
     out = np.array(depth_hr, dtype=np.float32, copy=True)
     lr = check_depth(depth_lr, "depth_lr").astype(np.float32)
     with np.errstate(invalid="ignore"):
         lr[~(lr > 0)] = np.nan
-    if fill_enclosed:
+    if fill_enclosed or rgb_hr is not None:
         from .._fill import enclosed_holes
 
-        lr[enclosed_holes(lr)] = 1.0   # counts as measured: the refinement's depth stays there
-    out[unmeasured_on_grid(lr, out.shape[:2])] = np.nan
+        enclosed = enclosed_holes(lr)
+        if fill_enclosed:
+            lr[enclosed] = 1.0   # counts as measured: the refinement's depth stays there
+    unmeasured = unmeasured_on_grid(lr, out.shape[:2])
+    if rgb_hr is not None and unmeasured.any() and not unmeasured.all():
+        from .._geodesic import color_step_costs, nearest_seed
+        from .._validate import guide_uint8
+
+        rgb = check_rgb(rgb_hr, "rgb_hr")
+        if rgb.shape[:2] != out.shape[:2]:
+            raise ValueError(f"rgb_hr has shape {rgb.shape[:2]}; it must be on depth_hr's grid {out.shape[:2]}.")
+        costs = color_step_costs(guide_uint8(rgb), blur=BORDER_BLUR, step_levels=BORDER_STEP_LEVELS)
+        per_pixel = 0.5 * (out.shape[0] / lr.shape[0] + out.shape[1] / lr.shape[1])
+        moved = unmeasured_along_color(unmeasured, costs, BORDER_BAND * per_pixel,
+                                       dropouts=unmeasured_on_grid(np.where(enclosed, np.nan, 1.0), out.shape[:2]))
+        gained = unmeasured & ~moved
+        if gained.any():   # the depth of the measured pixel each one is joined to along the color
+            source = nearest_seed(*costs, gained | moved)[gained]
+            out[gained] = np.where(source >= 0, out.ravel()[np.maximum(source, 0)], np.nan)
+            moved[gained] = source < 0
+        unmeasured = moved
+    out[unmeasured] = np.nan
     return out
+
+
+def unmeasured_along_color(unmeasured: np.ndarray, costs: tuple[np.ndarray, np.ndarray], band: float, *,
+                           dropouts: np.ndarray | None = None) -> np.ndarray:
+    """``unmeasured`` (bool) with its border moved onto the color edges within ``band`` pixels of where it was.
+
+    Each pixel within ``band`` pixels of the border, on either side, takes
+    the side of its geodesic nearest pixel outside that strip
+    (:func:`depthrefine._geodesic.nearest_seed`, ``costs`` from
+    :func:`depthrefine._geodesic.color_step_costs`): the new border falls
+    on the strongest color edge across the strip, and where the color is
+    flat it stays where it was. Narrower than the strip, a measured part
+    keeps its middle line (nothing measured vanishes). ``dropouts`` (bool:
+    holes inside one surface, which ``run --fill-holes`` fills, measured or
+    not in ``unmeasured``) and the pixels within ``band`` of them keep
+    their side. New array.
+
+    Examples
+    --------
+    >>> from depthrefine._geodesic import color_step_costs
+    >>> color = np.zeros((1, 10, 3), np.uint8); color[:, 6:] = 200      # the color edge between columns 5 and 6
+    >>> unmeasured = np.arange(10)[None, :] >= 4                           # the depth grid's border at column 4
+    >>> moved = unmeasured_along_color(unmeasured, color_step_costs(color, blur=0, step_levels=2), 3)
+    >>> moved.astype(int).tolist()
+    [[0, 0, 0, 0, 0, 0, 1, 1, 1, 1]]
+    """
+    import cv2
+
+    from .._geodesic import nearest_seed
+
+    if not unmeasured.any() or unmeasured.all():
+        return unmeasured.copy()
+    to_unmeasured = cv2.distanceTransform((~unmeasured).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    to_measured = cv2.distanceTransform(unmeasured.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    thin_middle = ~unmeasured & (to_unmeasured >= cv2.dilate(to_unmeasured, np.ones((3, 3), np.uint8)))
+    strip = (np.where(unmeasured, to_measured, to_unmeasured) <= band) & ~thin_middle
+    if dropouts is not None and dropouts.any():
+        to_dropout = cv2.distanceTransform((~dropouts).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+        strip &= to_dropout > band
+    source = nearest_seed(*costs, strip)
+    moved = unmeasured.copy()
+    reached = strip & (source >= 0)
+    moved[reached] = unmeasured.ravel()[source[reached]]
+    return moved
 
 
 def nearest_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarray:

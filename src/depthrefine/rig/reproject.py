@@ -15,8 +15,12 @@ to upsample). Each depth pixel writes every grid
 pixel its footprint covers (its angular size through the lens, times the
 depth ratio), so a surface seen slightly magnified has no gaps for the
 background to show through (``cv2.registerDepth`` writes one pixel per sample
-and has them). An empty pixel between two opposite samples takes the farther
-one; wider disocclusions stay invalid (NaN) and are filled by the refinement.
+and has them). An invalid depth pixel travels with its nearest valid
+neighbour and hides what lies behind it without writing a depth, and a far
+sample the parallax moved between nearer ones is hidden (the wall seen
+through the gaps between a mug's samples). An empty pixel between two
+opposite samples takes the farther one; wider disocclusions stay invalid
+(NaN) and are filled by the refinement.
 The values are the depth along the *color* camera's axis, in the input's
 units. Invalid depth (NaN / 0) stays invalid and is never filled here.
 """
@@ -33,6 +37,12 @@ from .camera import CameraModel, StereoRig, check_camera_shape
 from .pointcloud import metres_to_depth, pixel_rays, project_points
 
 __all__ = ["reproject_camera", "default_factor", "align_reproject"]
+
+#: A sample hides behind nearer ones (:func:`_seen_between`) when it is farther than they are by this share ...
+SAME_SURFACE = 0.05
+#: ... and comes from more than this many pixels away from them in the depth image (moved there by the parallax,
+#: not seen through a gap between them).
+PARALLAX_JUMP = 2.5
 
 
 
@@ -143,8 +153,10 @@ def align_reproject(
     Notes
     -----
     z-buffer: the nearest point wins each grid pixel; every depth pixel
-    writes its footprint (see the module docstring); then an empty pixel
-    between two opposite samples takes the farther one.
+    writes its footprint (see the module docstring); a far sample between
+    nearer ones that the parallax moved there from elsewhere in the depth
+    image is hidden (:func:`_seen_between`); then an empty pixel between
+    two opposite samples takes the farther one.
 
     Examples
     --------
@@ -193,15 +205,21 @@ def align_reproject(
             targets.append(row[inside].astype(np.int64) * cols_t + col[inside].astype(np.int64))
     source = np.concatenate(sources)
     target = np.concatenate(targets)
-    priority = np.where(valid[source], -z_color[source], -np.inf)  # nearest wins; invalid loses
+    # nearest wins; an invalid pixel, at its nearest valid neighbour's depth, hides what lies behind it (writing
+    # no depth) but loses a tie with a valid one
+    priority = np.where(valid[source], -z_color[source], np.nextafter(-z_color[source], -np.inf))
     target, source = zbuffer(target, priority, source)
 
     out = np.full(rows_t * cols_t, np.nan)
-    landed = np.zeros(rows_t * cols_t, dtype=bool)
+    winner = np.full(rows_t * cols_t, np.nan)   # the depth of each pixel's sample, an invalid one's neighbour's too
+    origin = np.full((2, rows_t * cols_t), np.nan)   # and where that sample lies in the depth image (row, column)
     out[target] = np.where(valid[source], z_color[source], np.nan)
-    landed[target] = True
-    out = out.reshape(rows_t, cols_t)
-    _close_pinholes(out, ~landed.reshape(rows_t, cols_t))
+    winner[target] = z_color[source]
+    origin[:, target] = np.divmod(source, d.shape[1])
+    out, winner = out.reshape(rows_t, cols_t), winner.reshape(rows_t, cols_t)
+    hidden = _seen_between(winner, origin.reshape(2, rows_t, cols_t))
+    out[hidden] = np.nan
+    _close_pinholes(out, np.isnan(winner) | hidden)
     return metres_to_depth(out, depth_units=depth_units, inverse_scale=inverse_scale)
 
 
@@ -211,6 +229,42 @@ def _ray_span(rays: np.ndarray, camera: CameraModel) -> np.ndarray:
     if rows < 2 or cols < 2:
         return np.broadcast_to(1.0 / np.array(camera.focal), rays.shape).copy()
     return np.abs(np.gradient(rays, axis=1)) + np.abs(np.gradient(rays, axis=0))
+
+
+def _seen_between(z: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """Where a far sample shows between two nearer ones from elsewhere in the depth image: background through a gap.
+
+    Samples of a near surface land on the grid about one pixel apart, but
+    not exactly: their spacing changes with the parallax, which changes
+    with the depth, so a pixel here and there gets none, and a sample of
+    the surface behind, moved farther by the parallax, takes it. Such a
+    sample is farther by more than :data:`SAME_SURFACE` than the samples on
+    both sides of it (along a row, a column or a diagonal, in a run of at
+    most two such pixels), and it comes from more than
+    :data:`PARALLAX_JUMP` pixels away from both in the depth image. A gap
+    the depth camera saw between two near samples (two pencils, a handle)
+    lies between them in the depth image too, and stays. ``z`` holds each
+    pixel's sample (an invalid depth pixel's the depth of its nearest valid
+    one: the Azure Kinect leaves 2-3 pixels empty between a mug and the
+    wall, and the mug's ones must hide the wall too), ``origin``
+    (2, rows, cols) the depth image row and column of each pixel's sample
+    (NaN where none).
+    """
+    rows, cols = z.shape
+    pad = np.pad(z, 2, constant_values=np.nan)
+    pad_origin = np.pad(origin, ((0, 0), (2, 2), (2, 2)), constant_values=np.nan)
+
+    def nearer_from_afar(dr: int, dc: int) -> np.ndarray:
+        window = (slice(2 + dr, 2 + dr + rows), slice(2 + dc, 2 + dc + cols))
+        apart = np.hypot(*(pad_origin[(k, *window)] - origin[k] for k in (0, 1)))
+        return (pad[window] < z / (1.0 + SAME_SURFACE)) & (apart > PARALLAX_JUMP)
+
+    hidden = np.zeros(z.shape, bool)
+    with np.errstate(invalid="ignore"):
+        for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+            for before, after in ((1, 1), (1, 2), (2, 1)):
+                hidden |= nearer_from_afar(-before * dr, -before * dc) & nearer_from_afar(after * dr, after * dc)
+    return hidden
 
 
 def _close_pinholes(z: np.ndarray, empty: np.ndarray) -> None:
