@@ -11,9 +11,10 @@ method:
   (1056x594, ``s = 1.21``), which the method upsamples x2 onto a 2112x1188
   working grid, resized back to 1280x720.
 
-Each result is the map ``depthrefine run`` writes (``--fill-holes`` with
-``--fill-holes``): the method's output with the unmeasured pixels taken
-back, their border following the color (``rig.chain.keep_unmeasured``).
+Each result is the map ``depthrefine run`` writes (``run --fill-holes``'s
+with ``--fill-holes``): the method's output with the unmeasured pixels
+taken back, their border following the color
+(``rig.chain.keep_unmeasured``).
 For each it prints two outlines, each as the median distance of its pixels
 to the nearest Canny edge of the color image, the share within 2 px and
 the mean:

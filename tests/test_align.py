@@ -410,6 +410,24 @@ def test_reproject_invalid_outline_hides_the_background_behind_it():
     assert np.isfinite(out[~edge_zone(front, 10) & ~front]).all()   # beyond the parallax and the empty outline
 
 
+def test_reproject_hides_far_samples_the_parallax_moved_between_near_ones():
+    """_seen_between: a wall sample between two of a mug's, from far away in the depth image, is hidden; one the
+    depth camera saw through a gap (its neighbours in the depth image) stays, and so does a run of 3 or more."""
+    from depthrefine.rig.reproject import _seen_between
+
+    def row(far: list[int], from_column: int) -> np.ndarray:
+        z = np.full((3, 9), 0.27)
+        origin = np.stack([np.full((3, 9), 50.0), np.tile(np.arange(100.0, 109.0), (3, 1))])
+        z[:, far] = 0.8
+        origin[1][:, far] = from_column + np.arange(len(far))
+        return _seen_between(z, origin)[1]
+
+    assert row([4], 60).tolist() == [False] * 4 + [True] + [False] * 4           # moved in by the parallax
+    assert not row([4], 104).any()                                                # a gap the camera saw
+    assert row([4, 5], 60)[4:6].all() and not row([3, 4, 5], 60).any()            # runs of 2 only
+    assert not _seen_between(np.full((3, 3), np.nan), np.full((2, 3, 3), np.nan)).any()
+
+
 def test_reproject_radial_depth():
     z, _ = render_depth(DEPTH_CAM, distorted=True)
     rows, cols = np.mgrid[0:72, 0:96]
@@ -572,4 +590,14 @@ def test_unmeasured_along_color_keeps_a_thin_measured_part():
     unmeasured[0, 19:21] = False                                   # two measured pixels between wide holes
     costs = color_step_costs(np.zeros((1, 40, 3), np.uint8), blur=0, step_levels=2)
     moved = unmeasured_along_color(unmeasured, costs, 6)
-    assert (~moved).sum() >= 1 and not moved[0, 19:21].all()      # its middle stays measured
+    assert not moved[0, 19:21].all()                              # its middle stays measured
+
+
+def test_keep_unmeasured_checks_the_color_image_on_every_frame():
+    measured = np.full((4, 4), 100.0, np.float32)           # nothing unmeasured: the border has nothing to do
+    with pytest.raises(ValueError, match="rgb_hr has shape"):
+        keep_unmeasured(np.full((8, 8), 100.0, np.float32), measured, rgb_hr=np.zeros((6, 6, 3), np.uint8))
+    with pytest.raises(ValueError, match="rgb_hr"):
+        keep_unmeasured(np.full((8, 8), 100.0, np.float32), measured, rgb_hr=np.full((8, 8, 3), 2.0))
+    with pytest.raises(ValueError, match="costs must be"):
+        unmeasured_along_color(np.zeros((8, 8), bool), (np.zeros((5, 5), np.float32),) * 2, 2)

@@ -285,14 +285,15 @@ def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed
         enclosed = enclosed_holes(lr)
         if fill_enclosed:
             lr[enclosed] = 1.0   # counts as measured: the refinement's depth stays there
+    if rgb_hr is not None:
+        rgb = check_rgb(rgb_hr, "rgb_hr")
+        if rgb.shape[:2] != out.shape[:2]:
+            raise ValueError(f"rgb_hr has shape {rgb.shape[:2]}; it must be on depth_hr's grid {out.shape[:2]}.")
     unmeasured = unmeasured_on_grid(lr, out.shape[:2])
     if rgb_hr is not None and unmeasured.any() and not unmeasured.all():
         from .._geodesic import color_step_costs, nearest_seed
         from .._validate import guide_uint8
 
-        rgb = check_rgb(rgb_hr, "rgb_hr")
-        if rgb.shape[:2] != out.shape[:2]:
-            raise ValueError(f"rgb_hr has shape {rgb.shape[:2]}; it must be on depth_hr's grid {out.shape[:2]}.")
         costs = color_step_costs(guide_uint8(rgb), blur=BORDER_BLUR, step_levels=BORDER_STEP_LEVELS)
         per_pixel = 0.5 * (out.shape[0] / lr.shape[0] + out.shape[1] / lr.shape[1])
         moved = unmeasured_along_color(unmeasured, costs, BORDER_BAND * per_pixel,
@@ -335,6 +336,14 @@ def unmeasured_along_color(unmeasured: np.ndarray, costs: tuple[np.ndarray, np.n
 
     from .._geodesic import nearest_seed
 
+    unmeasured = np.asarray(unmeasured)
+    if unmeasured.dtype != np.bool_ or unmeasured.ndim != 2:
+        raise ValueError(f"unmeasured must be a 2-D bool array; got {unmeasured.dtype} of shape {unmeasured.shape}.")
+    if len(costs) != 2 or any(np.shape(c) != unmeasured.shape for c in costs):
+        raise ValueError(f"costs must be two arrays of unmeasured's shape {unmeasured.shape} (color_step_costs of the "
+                         "color image on its grid).")
+    if dropouts is not None and np.shape(dropouts) != unmeasured.shape:
+        raise ValueError(f"dropouts has shape {np.shape(dropouts)}; it must be unmeasured's, {unmeasured.shape}.")
     if not unmeasured.any() or unmeasured.all():
         return unmeasured.copy()
     to_unmeasured = cv2.distanceTransform((~unmeasured).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)

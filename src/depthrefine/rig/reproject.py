@@ -38,7 +38,8 @@ from .pointcloud import metres_to_depth, pixel_rays, project_points
 
 __all__ = ["reproject_camera", "default_factor", "align_reproject"]
 
-#: A sample hides behind nearer ones (:func:`_seen_between`) when it is farther than they are by this share ...
+#: A sample hides behind nearer ones (:func:`_seen_between`; an invalid pixel's guess, too) when it is farther than
+#: they are by this share ...
 SAME_SURFACE = 0.05
 #: ... and comes from more than this many pixels away from them in the depth image (moved there by the parallax,
 #: not seen through a gap between them).
@@ -206,8 +207,8 @@ def align_reproject(
     source = np.concatenate(sources)
     target = np.concatenate(targets)
     # nearest wins; an invalid pixel, at its nearest valid neighbour's depth, hides what lies behind it (writing
-    # no depth) but loses a tie with a valid one
-    priority = np.where(valid[source], -z_color[source], np.nextafter(-z_color[source], -np.inf))
+    # no depth) but loses to a valid sample of its own surface (within SAME_SURFACE)
+    priority = np.where(valid[source], -z_color[source], -z_color[source] * (1.0 + SAME_SURFACE))
     target, source = zbuffer(target, priority, source)
 
     out = np.full(rows_t * cols_t, np.nan)
