@@ -294,11 +294,11 @@ def test_mug_unmeasured_pixels_stay_invalid_unless_fill_holes(mug_run):
     both = (refined > 0)
     # the same depth where both are measured, but where the border took a pixel: its depth is copied from the
     # measured pixel the color joins it to, and with --fill-holes that may be a filled one
-    on_grid = both & ~grid_holes
+    on_grid = both & ~grid_holes & (filled > 0)
     assert np.array_equal(filled[on_grid], refined[on_grid])
     assert np.mean(filled[both] == refined[both]) > 0.99
     # --fill-holes adds depth; the border's side of a pixel depends on the pixels around it, which it changes too
-    # (1 pixel of 511 029 was measured without it and not with it)
+    # (on the mug, 1-2 pixels of about 510 000 are measured without it and not with it)
     assert np.count_nonzero(filled[both] == 0) <= 1e-4 * both.sum()
     points, colors = read_ply(mug_run["ply"])
     assert points.shape[0] == int(both.sum()) and colors.shape == (points.shape[0], 3)
