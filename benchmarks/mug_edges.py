@@ -106,11 +106,12 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  ({method}: {time.perf_counter() - t0:.1f} s; {note})", file=sys.stderr)
         for name, depth in results.items():
             figures = []
-            for outline in (depth_silhouette(depth, near=MUG_NEAR_MM, far=MUG_FAR_MM), mug_outline(depth)):
+            for outline, width in ((depth_silhouette(depth, near=MUG_NEAR_MM, far=MUG_FAR_MM), 16),
+                                   (mug_outline(depth), 14)):
                 distances = outline_distances(outline, pair.rgb_hr)
-                figures.append(f"{np.median(distances):16.2f} {np.mean(distances <= 2):7.0%} "
+                figures.append(f"{np.median(distances):{width}.2f} {np.mean(distances <= 2):7.0%} "
                                f"{distances.mean():5.2f} {distances.size:6d}")
-            print(f"{label:26s} {name:9s} | {figures[0]} | {figures[1].replace(' ' * 2, '', 1)}  "
+            print(f"{label:26s} {name:9s} | {figures[0]} | {figures[1]}  "
                   f"(grid {pair.depth_lr.shape[1]}x{pair.depth_lr.shape[0]})")
             if name != "aligned":
                 panels.append((f"{label}: {name}", depth, pair.rgb_hr))

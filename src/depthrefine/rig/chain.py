@@ -244,13 +244,18 @@ def unmeasured_on_grid(depth_lr: np.ndarray, shape: tuple[int, int]) -> np.ndarr
     >>> unmeasured_on_grid(np.array([[1.0, np.nan]]), (2, 4)).astype(int).tolist()
     [[0, 0, 1, 1], [0, 0, 1, 1]]
     """
-    import cv2
-
     d = check_depth(depth_lr, "depth_lr").astype(np.float32)
     with np.errstate(invalid="ignore"):
         invalid = ~(np.isfinite(d) & (d > 0))
+    return _spread(invalid, shape)
+
+
+def _spread(mask: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """A (h, w) bool mask of the depth grid spread over a ``shape`` = (rows, cols) grid as the refinement spreads it."""
+    import cv2
+
     rows, cols = int(shape[0]), int(shape[1])
-    return cv2.resize(invalid.astype(np.uint8), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT).astype(bool)
+    return cv2.resize(mask.astype(np.uint8), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT).astype(bool)
 
 
 def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed: bool = False,
@@ -297,7 +302,7 @@ def keep_unmeasured(depth_hr: np.ndarray, depth_lr: np.ndarray, *, fill_enclosed
         costs = color_step_costs(guide_uint8(rgb), blur=BORDER_BLUR, step_levels=BORDER_STEP_LEVELS)
         per_pixel = 0.5 * (out.shape[0] / lr.shape[0] + out.shape[1] / lr.shape[1])
         moved = unmeasured_along_color(unmeasured, costs, BORDER_BAND * per_pixel,
-                                       dropouts=unmeasured_on_grid(np.where(enclosed, np.nan, 1.0), out.shape[:2]))
+                                       dropouts=_spread(enclosed, out.shape[:2]))
         gained = unmeasured & ~moved
         if gained.any():   # the depth of the measured pixel each one is joined to along the color
             source = nearest_seed(*costs, gained | moved)[gained]

@@ -263,8 +263,8 @@ def _seen_between(z: np.ndarray, origin: np.ndarray) -> np.ndarray:
     hidden = np.zeros(z.shape, bool)
     with np.errstate(invalid="ignore"):
         for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
-            for before, after in ((1, 1), (1, 2), (2, 1)):
-                hidden |= nearer_from_afar(-before * dr, -before * dc) & nearer_from_afar(after * dr, after * dc)
+            side = {k: nearer_from_afar(k * dr, k * dc) for k in (-2, -1, 1, 2)}
+            hidden |= (side[-1] & side[1]) | (side[-1] & side[2]) | (side[-2] & side[1])   # runs of 1 and 2
     return hidden
 
 
