@@ -20,6 +20,28 @@ def test_enclosed_holes_are_the_ones_one_surface_surrounds():
     assert enclosed.sum() == 4 * 6 + 6 * 6
 
 
+def test_a_sliver_of_a_hole_that_the_rays_miss_is_enclosed_with_it():
+    rows = np.mgrid[0:60, 0:400][0].astype(np.float32)      # the rays reach 40 pixels
+    depth = 100 + 0.08 * rows                                # a surface sloping gently
+    depth[12:48, 10:51] = np.nan                             # a hole 41 pixels wide
+    depth[30, 30] = 105.0                                    # a measured speck inside it
+    depth[20:23, 395:] = np.nan                              # a notch open to the image's border
+    enclosed = enclosed_holes(depth)
+    # the hole's first and last columns each have one ray 41 pixels long, beyond the reach: alone, the four rays
+    # leave them out (two lines through the hole); the pixels around them span under 5 %: they join the hole
+    assert enclosed[12:48, 10].all() and enclosed[12:48, 50].all()
+    assert enclosed[12:48, 10:51].sum() == 36 * 41 - 1
+    assert not enclosed[20:23, 395:].any()
+
+
+def test_a_strip_between_two_surfaces_is_no_sliver():
+    depth = np.full((40, 60), 1000.0, np.float32)
+    depth[:, 30:] = 1500.0
+    depth[5:35, 8:52] = np.nan                               # a hole across the jump: neither side encloses it
+    depth[5:35, 29:31] = np.nan
+    assert not enclosed_holes(depth)[5:35, 26:34].any()
+
+
 def test_the_smooth_fill_spans_a_plane_exactly_and_leaves_unreached_holes():
     rows, cols = np.mgrid[0:40, 0:50].astype(np.float32)
     plane = 500 + 3 * rows - 2 * cols

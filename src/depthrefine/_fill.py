@@ -33,6 +33,9 @@ ENCLOSED_REACH = 0.1
 #: ... and those four depths span at most this share of their median (one surface: a mug's curvature across an
 #: ink drawing spans 1-2 %, the two sides of a depth jump tens of %).
 ENCLOSED_SPREAD = 0.05
+#: A sliver of unmeasured pixels between enclosed ones is enclosed too when every pixel of it has enclosed or
+#: measured pixels within this many pixels each way, spanning at most ``ENCLOSED_SPREAD`` there.
+SLIVER_REACH = 3
 
 
 def enclosed_holes(depth: np.ndarray) -> np.ndarray:
@@ -44,7 +47,11 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
     surrounds it. A dark drawing on a mug, a dropout on a dark or shiny spot,
     a thin sliver: enclosed. The outside of the Azure Kinect's NFOV hexagon
     (nothing beyond it), a shadow beside a depth jump (near on one side, far
-    on the other), a large unmeasured region: not.
+    on the other), a large unmeasured region: not. A thin group of unmeasured
+    pixels between enclosed ones that the four rays miss (a ray that meets a
+    measured speck inside a wide hole, or reaches just beyond 10 %) is
+    enclosed with them when the pixels around it are one surface
+    (:func:`_slivers`).
 
     Examples
     --------
@@ -66,7 +73,41 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
         low, high = values.min(axis=0), values.max(axis=0)
         middle = np.median(values, axis=0)
         one_surface = (high - low) <= ENCLOSED_SPREAD * np.abs(middle)
-    return invalid & complete & one_surface
+    enclosed = invalid & complete & one_surface
+    return enclosed | _slivers(depth, enclosed, np.where(enclosed, middle, depth))
+
+
+def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np.ndarray:
+    """The other unmeasured pixels that lie in thin slivers surrounded by ``enclosed`` and measured pixels.
+
+    Over a wide hole in a slanted or curved surface, the four depths a pixel
+    sees can span just over :data:`ENCLOSED_SPREAD` where one of its rays
+    meets a measured speck inside the hole: such pixels form lines one or
+    two pixels wide through the hole. A connected group (8 neighbours) of
+    unmeasured, not enclosed pixels joins the enclosed ones when it does
+    not touch the image's border and each of its pixels has, within
+    :data:`SLIVER_REACH` pixels, enclosed or measured pixels whose depths
+    (``surface``: the median of an enclosed pixel's four, a measured one's
+    own) span at most ``ENCLOSED_SPREAD`` of their largest. A strip between
+    a near and a far surface, or a group wider than the reach, stays out.
+    """
+    import cv2
+
+    rest = ~np.isfinite(depth) & ~enclosed
+    if not rest.any() or not enclosed.any():
+        return np.zeros_like(rest)
+    known = np.isfinite(surface)
+    window = np.ones((2 * SLIVER_REACH + 1,) * 2, np.uint8)
+    low = cv2.erode(np.where(known, surface, np.inf).astype(np.float32), window, borderType=cv2.BORDER_REPLICATE)
+    high = cv2.dilate(np.where(known, surface, -np.inf).astype(np.float32), window,
+                      borderType=cv2.BORDER_REPLICATE)
+    with np.errstate(invalid="ignore"):
+        one_surface = np.isfinite(low) & np.isfinite(high) & ((high - low) <= ENCLOSED_SPREAD * np.abs(high))
+    count, labels = cv2.connectedComponents(rest.astype(np.uint8), connectivity=8)
+    out = np.bincount(labels[rest & ~one_surface], minlength=count) > 0
+    out[np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]])] = True    # touching the border
+    out[0] = True                                                                       # not a group at all
+    return ~out[labels]
 
 
 def _nearest_along_rows(depth: np.ndarray, reach: float) -> np.ndarray:
