@@ -55,10 +55,12 @@ def _window_oracle(depth_hr: np.ndarray, depth_gt: np.ndarray, size: int) -> np.
 def score_case(case, method: str, bounds: bool, curves: dict | None = None) -> dict:
     import depthrefine
     from depthrefine.bench.metrics import sparsification
+    from depthrefine.bench.suite import protocol_params
     from depthrefine.methods.confidence import steepness_confidence
 
     start = time.perf_counter()
-    depth_hr, confidence = depthrefine.refine_with_confidence(case.depth_lr, case.rgb_hr, method=method)
+    params = protocol_params(case.protocol).get(method)   # as the bench: the protocol's own parameters
+    depth_hr, confidence = depthrefine.refine_with_confidence(case.depth_lr, case.rgb_hr, method=method, params=params)
     seconds = time.perf_counter() - start
     mine = sparsification(depth_hr, case.depth_gt, confidence, border=case.border)
     base = sparsification(depth_hr, case.depth_gt, steepness_confidence(depth_hr), border=case.border)

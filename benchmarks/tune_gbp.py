@@ -14,7 +14,9 @@ its neighbours::
     python benchmarks/tune_gbp.py --protocols sensor                # the simulated sensors' tuning scenes
 
 ``--protocols`` scores other protocols' tuning scenes instead (``sensor``:
-its four ``<scene>-<model>`` tuning cases); the tuning mean of the defaults
+its four ``<scene>-<model>`` tuning cases, each model's row too, with
+``reprojected`` set as the bench sets it there unless ``--set reprojected=...``);
+the tuning mean of the defaults
 is over the three above. ``--edges`` adds the edge RMSE (a band of 3 px
 around the truth's depth edges), the sensor protocol's second target.
 """
@@ -22,6 +24,7 @@ around the truth's depth edges), the sensor protocol's second target.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib
 import sys
 import time
@@ -52,7 +55,7 @@ def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple
     With ``edges`` the edge RMSE's means too, under ``(protocol + " edge", scale)``.
     """
     from depthrefine.bench.metrics import score
-    from depthrefine.bench.protocols import TUNING_SCENES, load_cases
+    from depthrefine.bench.protocols import PROTOCOLS, TUNING_SCENES, load_cases
     from depthrefine.methods.gbp import GbpParams, upsample_gbp
 
     fields = {}
@@ -68,12 +71,19 @@ def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple
     params = GbpParams(**fields)
     scores: dict[tuple[str, int], list[float]] = {}
     for protocol in protocols:
+        # as the bench: a protocol of reprojected inputs (sensor) tells gbp so
+        told = params
+        if PROTOCOLS[protocol].reprojected and "reprojected" not in fields:   # --set reprojected=false is kept
+            told = dataclasses.replace(params, reprojected=True)
         for case in load_cases(data, protocol, SCALES):
             if case.scene in TUNING_SCENES[protocol]:
-                out = upsample_gbp(case.depth_lr, case.rgb_hr, params=params)
+                out = upsample_gbp(case.depth_lr, case.rgb_hr, params=told)
                 scored = score(out, case.depth_gt, border=case.border)
                 scores.setdefault((protocol, case.scale), []).append(scored.rmse)
                 scores.setdefault(("all", case.scale), []).append(scored.rmse)
+                if "-" in case.scene:   # a simulated sensor's scene, <scene>-<model>: also per model
+                    model = f"{protocol} {case.scene.rsplit('-', 1)[1]}"
+                    scores.setdefault((model, case.scale), []).append(scored.rmse)
                 if edges:
                     scores.setdefault((f"{protocol} edge", case.scale), []).append(scored.edge_rmse)
     means = {key: float(np.mean(values)) for key, values in scores.items()}
@@ -93,7 +103,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     mean, means = tuning_mean(args.data, args.settings, args.protocols, args.edges)
-    rows = [*args.protocols, *(f"{p} edge" for p in args.protocols if args.edges), "all"]
+    models = sorted({key for key, _ in means if key.count(" ") == 1 and not key.endswith(" edge")})
+    rows = [*args.protocols, *models, *(f"{p} edge" for p in args.protocols if args.edges), "all"]
     for protocol in rows:
         print(f"{protocol:13s} " + " / ".join(f"x{s} {means[protocol, s]:.4f}" for s in SCALES))
     print(f"tuning mean {mean:.4f}  ({', '.join(f'{n}={v}' for n, v in args.settings) or 'defaults'}; "

@@ -18,12 +18,16 @@ Usage::
     python benchmarks/tune_gbp_fast.py                                   # the defaults
     python benchmarks/tune_gbp_fast.py --set rounds=3 --time
     python benchmarks/tune_gbp_fast.py --test --peers /tmp/bench/scores.csv
+    python benchmarks/tune_gbp_fast.py --protocols sensor --set lambda_lr=1.0   # the sensor tuning scenes
+
+As the bench, the ``sensor`` protocol's cases set ``reprojected`` (unless ``--set reprojected=...``).
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import importlib
 import statistics
 import sys
@@ -39,7 +43,7 @@ except ImportError:  # run as a script from benchmarks/
 
 #: The peers gbp-fast must beat in every cell (issue 22).
 PEERS = ("bicubic", "jbf", "guided", "fgs", "wmf")
-ALL_PROTOCOLS = ("park", "middlebury30", "lu", "tof", "realtof")
+ALL_PROTOCOLS = ("park", "middlebury30", "lu", "tof", "realtof", "sensor")
 
 
 def params_from(settings: list[tuple[str, object]]):
@@ -59,10 +63,15 @@ def params_from(settings: list[tuple[str, object]]):
     return fast.GbpFastParams(**fields)
 
 
-def cell_means(data: Path, params, split: str, protocols: tuple[str, ...]) -> dict[tuple[str, int], float]:
-    """Mean RMSE of gbp-fast per (protocol, scale) over the scenes of ``split`` (``"tune"`` or ``"test"``)."""
+def cell_means(data: Path, params, split: str, protocols: tuple[str, ...], *,
+               as_the_bench: bool = True) -> dict[tuple[str, int], float]:
+    """Mean RMSE of gbp-fast per (protocol, scale) over the scenes of ``split`` (``"tune"`` or ``"test"``).
+
+    A simulated sensor's cells also per model (``("sensor itof", 4)``). With ``as_the_bench`` a protocol of
+    reprojected inputs (``sensor``) sets ``reprojected`` as the bench does; else ``params`` go as they are.
+    """
     from depthrefine.bench.metrics import score
-    from depthrefine.bench.protocols import load_cases
+    from depthrefine.bench.protocols import PROTOCOLS as REGISTERED, load_cases
     from depthrefine.methods.gbp.fast import upsample_gbp_fast
 
     scores: dict[tuple[str, int], list[float]] = {}
@@ -72,10 +81,16 @@ def cell_means(data: Path, params, split: str, protocols: tuple[str, ...]) -> di
             cases = load_cases(data, protocol, scales, notes=[])
         except (OSError, ValueError):
             continue
+        told = params
+        if as_the_bench and REGISTERED[protocol].reprojected:
+            told = dataclasses.replace(params, reprojected=True)
         for case in cases:
             if case.split == split:
-                out = upsample_gbp_fast(case.depth_lr, case.rgb_hr, params=params)
-                scores.setdefault((protocol, case.scale), []).append(score(out, case.depth_gt, border=case.border).rmse)
+                out = upsample_gbp_fast(case.depth_lr, case.rgb_hr, params=told)
+                rmse = score(out, case.depth_gt, border=case.border).rmse
+                scores.setdefault((protocol, case.scale), []).append(rmse)
+                if "-" in case.scene:   # a simulated sensor's scene, <scene>-<model>
+                    scores.setdefault((f"{protocol} {case.scene.rsplit('-', 1)[1]}", case.scale), []).append(rmse)
     return {key: float(np.mean(v)) for key, v in scores.items()}
 
 
@@ -122,6 +137,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--set", dest="settings", type=_setting, action="append", default=[], metavar="NAME=VALUE",
                         help="a GbpFastParams field, or a CONSTANT of methods/gbp/fast.py (module.CONSTANT for "
                              "gbp's steps); repeatable")
+    parser.add_argument("--protocols", type=lambda text: tuple(text.split(",")), default=PROTOCOLS, metavar="A,B",
+                        help="the protocols whose tuning scenes make the tuning mean (each one's cells are printed)")
     parser.add_argument("--test", action="store_true", help="also the test cells of every protocol")
     parser.add_argument("--peers", type=Path, help="scores.csv of a depthrefine bench --report run (with --test)")
     parser.add_argument("--time", action="store_true", help="also the CPU time per call against FGS's")
@@ -129,11 +146,15 @@ def main(argv: list[str] | None = None) -> int:
     params = params_from(args.settings)
     label = ", ".join(f"{n}={v}" for n, v in args.settings) or "defaults"
     t0 = time.perf_counter()
-    means = cell_means(args.data, params, "tune", PROTOCOLS)
-    per_scale = [np.mean([v for (_, s), v in means.items() if s == scale]) for scale in SCALES]
+    as_the_bench = "reprojected" not in dict(args.settings)   # --set reprojected=false is kept
+    means = cell_means(args.data, params, "tune", args.protocols, as_the_bench=as_the_bench)
+    per_scale = [np.mean([v for (p, s), v in means.items() if s == scale and p in args.protocols]) for scale in SCALES]
+    if args.protocols != PROTOCOLS:
+        for name in sorted({p for p, _ in means}):
+            print(f"{name:13s} " + " / ".join(f"x{s} {means[name, s]:.4f}" for s in SCALES if (name, s) in means))
     print(f"tuning mean {np.mean(per_scale):.4f}  ({label}; {time.perf_counter() - t0:.0f} s)")
     if args.test:
-        test = cell_means(args.data, params, "test", ALL_PROTOCOLS)
+        test = cell_means(args.data, params, "test", ALL_PROTOCOLS, as_the_bench=as_the_bench)
         peers = peer_means(args.peers) if args.peers else {}
         worst = 0.0
         for (protocol, scale), value in sorted(test.items()):

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+import depthrefine
 from depthrefine.rig import (
     AlignmentWarning,
     AlignSettings,
@@ -530,6 +531,25 @@ def test_a_ratio_below_1_5_renders_at_the_depth_resolution_and_the_method_upsamp
     with pytest.raises(ValueError, match="factor must be a number >= 1"):
         AlignSettings(factor=0.9)
     assert AlignSettings(factor=1.21).factor == 1.21
+
+
+def test_the_chain_tells_gbp_its_input_is_reprojected():
+    """refine_pair (run, batch with a rig, the mug demo) gives gbp and gbp-fast ``reprojected=True``, keeping the
+    other parameters it was given; methods without that parameter get theirs unchanged."""
+    from depthrefine.methods.gbp import GbpParams
+    from depthrefine.methods.gbp.fast import GbpFastParams
+    from depthrefine.rig.chain import refine_pair, reprojected_params
+
+    assert reprojected_params("gbp") == GbpParams(reprojected=True)
+    assert reprojected_params("gbp", GbpParams(lambda_lr=5.0)) == GbpParams(lambda_lr=5.0, reprojected=True)
+    assert reprojected_params("gbp-fast") == GbpFastParams(reprojected=True)
+    assert reprojected_params("bicubic") is None
+    from test_gbp import misplaced_samples
+
+    _, rgb, depth_lr = misplaced_samples()
+    refined, _ = refine_pair(depth_lr, rgb, method="gbp")
+    np.testing.assert_array_equal(refined, depthrefine.refine(depth_lr, rgb, params=GbpParams(reprojected=True)))
+    assert not np.array_equal(refined, depthrefine.refine(depth_lr, rgb))
 
 
 # ----------------------------------------------------------------------------

@@ -587,3 +587,53 @@ def test_snap_edges_moves_a_fattened_jump_onto_the_color_edge():
     flat = np.full_like(rgb, 128)
     np.testing.assert_array_equal(upsample_gbp(depth_lr, flat, params=GbpParams(snap_edges=True)),
                                   upsample_gbp(depth_lr, flat))
+
+
+def misplaced_samples(seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A disc before a slanted wall (truth, color) and an input whose samples each sit up to half a depth pixel off.
+
+    Each depth pixel holds the footprint mean around a point moved by a uniform random fraction of a depth pixel
+    from its centre, as on a depth map reprojected from a camera beside the color camera.
+    """
+    rows, cols, s = 128, 192, 4
+    yy, xx = np.mgrid[0:rows, 0:cols]
+    disc = (yy - 64) ** 2 + (xx - 96) ** 2 < 40 ** 2
+    gt = np.where(disc, 60.0, 120.0 + 0.1 * xx).astype(np.float32)
+    rgb = np.zeros((rows, cols, 3), np.uint8)
+    rgb[disc], rgb[~disc] = (200, 80, 60), (60, 90, 160)
+    dy, dx = np.random.default_rng(seed).uniform(-0.5, 0.5, (2, rows // s, cols // s)) * s
+    ys = (np.arange(rows // s)[:, None] * s + (s - 1) / 2 + dy).astype(np.float32)
+    xs = (np.arange(cols // s)[None, :] * s + (s - 1) / 2 + dx).astype(np.float32)
+    return gt, rgb, cv2.remap(cv2.blur(gt, (s, s)), xs, ys, cv2.INTER_LINEAR)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_reprojected_smooths_away_the_misplacement_of_the_samples(seed):
+    """With ``reprojected`` the detail solve smooths as much as ``lambda_lr = 2``, bit for bit, and no less than a
+    larger ``lambda_lr``; on samples misplaced by up to half a depth pixel that lowers the RMSE by a quarter
+    (7.8 -> 5.9 and 7.1 -> 5.0 for seeds 0 and 1; bicubic 8.0 and 7.5)."""
+    gt, rgb, depth_lr = misplaced_samples(seed)
+    plain = upsample_gbp(depth_lr, rgb)
+    told = upsample_gbp(depth_lr, rgb, params=GbpParams(reprojected=True))
+    np.testing.assert_array_equal(told, upsample_gbp(depth_lr, rgb, params=GbpParams(lambda_lr=2.0)))
+    np.testing.assert_array_equal(upsample_gbp(depth_lr, rgb, params=GbpParams(lambda_lr=3.0, reprojected=True)),
+                                  upsample_gbp(depth_lr, rgb, params=GbpParams(lambda_lr=3.0)))
+    assert rmse(told, gt) < 0.8 * rmse(plain, gt)
+
+
+def test_a_reprojected_inputs_confidence_counts_the_disagreement_with_the_input():
+    """The depth stays refine's, bit for bit; the map adds the generic disagreement term (the stronger smoothing
+    leaves the result's reduction off the misplaced samples): it is lower where the two disagree most."""
+    from depthrefine._validate import as_depth, guide_uint8
+    from depthrefine.methods.gbp.confidence import gbp_confidence
+    from depthrefine.methods.gbp.upsample import _refine
+
+    gt, rgb, depth_lr = misplaced_samples()
+    params = GbpParams(reprojected=True)
+    depth_hr, confidence = depthrefine.refine_with_confidence(depth_lr, rgb, params=params)
+    np.testing.assert_array_equal(depth_hr, depthrefine.refine(depth_lr, rgb, params=params))
+    keep: dict = {}
+    result, measures = _refine(as_depth(depth_lr), guide_uint8(rgb), params, None, keep=keep)
+    without = gbp_confidence(result, measures, keep["guided"])
+    np.testing.assert_array_equal(confidence, gbp_confidence(result, measures, keep["guided"], disagreement=True))
+    assert (confidence <= without + 1e-6).all() and (confidence < without - 0.05).any()

@@ -105,3 +105,33 @@ def test_the_shared_knobs_are_gbps():
     with pytest.raises(TypeError, match="GbpFastParams"):
         depthrefine.refine(np.ones((4, 4), np.float32), np.zeros((16, 16, 3), np.uint8), method="gbp-fast",
                            params=GbpParams())
+
+
+def test_reprojected_smooths_away_the_misplacement_of_the_samples():
+    """As gbp's ``reprojected``: both the work-grid rounds and the full-resolution solve smooth as much as
+    ``lambda_lr = 2``; on samples misplaced by up to half a depth pixel the RMSE falls from 7.1 to 2.0."""
+    from test_gbp import misplaced_samples
+
+    gt, rgb, depth_lr = misplaced_samples(0)
+    plain = upsample_gbp_fast(depth_lr, rgb)
+    told = upsample_gbp_fast(depth_lr, rgb, params=GbpFastParams(reprojected=True))
+    np.testing.assert_array_equal(told, upsample_gbp_fast(depth_lr, rgb, params=GbpFastParams(lambda_lr=2.0)))
+    assert rmse(told, gt) < 0.5 * rmse(plain, gt)
+
+
+def test_cli_reprojected_sets_the_knob_of_gbp_and_gbp_fast_and_no_other(tmp_path, capsys):
+    from depthrefine.cli import main
+    from depthrefine.io import read_depth
+    from test_gbp import misplaced_samples
+
+    _, rgb, depth_lr = misplaced_samples()
+    depth, color = tmp_path / "d.npy", tmp_path / "c.png"
+    np.save(depth, depth_lr)
+    cv2.imwrite(str(color), rgb[..., ::-1])
+    for method, params in (("gbp", GbpParams(reprojected=True)), ("gbp-fast", GbpFastParams(reprojected=True))):
+        out = tmp_path / f"{method}.npy"
+        assert main(["refine", str(depth), str(color), "-o", str(out), "--method", method, "--reprojected"]) == 0
+        np.testing.assert_array_equal(read_depth(out), depthrefine.refine(depth_lr, rgb, method=method, params=params))
+    assert main(["refine", str(depth), str(color), "-o", str(tmp_path / "b.npy"), "--method", "bicubic",
+                 "--reprojected"]) == 2
+    assert "add --method gbp" in capsys.readouterr().err and not (tmp_path / "b.npy").exists()

@@ -128,5 +128,8 @@ def test_sensor_protocol_cases_and_report_columns(tmp_path):
     header = overview_markdown(rows, metric="edge_rmse").splitlines()[0]
     assert "sensor dtof ×4" in header and "sensor itof ×4" in header
     params = protocol_params("sensor")
-    assert set(params) == set(SENSOR_PEER_PARAMS) == {"jbf", "guided", "fgs", "wmf"}
+    assert set(SENSOR_PEER_PARAMS) == {"jbf", "guided", "fgs", "wmf"}
+    assert set(params) == set(SENSOR_PEER_PARAMS) | {"gbp", "gbp-fast"}     # the reprojected inputs' methods are told
+    assert params["gbp"].reprojected and params["gbp-fast"].reprojected
+    assert params["gbp"] == type(params["gbp"])(reprojected=True)            # otherwise gbp's defaults
     assert protocol_params("park") == {}

@@ -261,7 +261,12 @@ class BatchJob:
         if options.ply and align.depth_units is None and align.inverse_scale is None:
             raise InputFileError("a point cloud per frame (--ply) needs the depth's units: --depth-units M or "
                                  "--inverse-depth-scale C.")
-        self.plan = FramePlan(self.method, options.params, rig=rig, align=align, fill_holes=options.fill_holes,
+        params = options.params
+        if rig is not None:   # the frames are reprojected onto the color camera: the method is told (as by run)
+            from ..rig.chain import reprojected_params
+
+            params = reprojected_params(self.method.name, params)
+        self.plan = FramePlan(self.method, params, rig=rig, align=align, fill_holes=options.fill_holes,
                               color=options.save_color, points=options.ply, stride=options.ply_stride,
                               preview=options.video is not None,
                               confidence=options.confidence is not None or options.min_confidence is not None,
@@ -323,7 +328,7 @@ class BatchJob:
         out: dict[str, Any] = {
             "input": self.sequence.describe() | {"path": str(Path(self.sequence.source).resolve())},
             "method": self.method.name,
-            "params": _params_dict(o.params),
+            "params": _params_dict(self.plan.params),   # with a rig, the method told the frames are reprojected
             "temporal": bool(o.temporal),
             "chunk": o.chunk if o.temporal else None,
             "max_dt": o.max_dt if self.sequence.topics else None,

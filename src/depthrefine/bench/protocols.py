@@ -121,6 +121,10 @@ class Protocol:
         Keyword arguments for the reader (e.g. ``invalid`` for ``triplets``).
     method_params : mapping
         ``{method: {field: value}}`` tuned for this protocol, used on its cases instead of the defaults.
+    reprojected : bool
+        The inputs came through the rig chain's reprojection onto the color camera (``sensor``): the methods
+        whose parameters have ``reprojected`` are told so, as ``depthrefine run`` tells them
+        (:func:`depthrefine.rig.chain.reprojected_params`).
     """
 
     name: str
@@ -136,6 +140,7 @@ class Protocol:
     published_means: tuple[Mapping[str, Any], ...] = ()
     reader_options: Mapping[str, Any] = field(default_factory=dict)
     method_params: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    reprojected: bool = False
 
 
 #: The registered protocols, in report order.
@@ -469,7 +474,7 @@ register_protocol(Protocol(
                          "dToF camera beside the color camera, reprojected onto it; RMSE, whole grid, levels",
     folder="middlebury2005_park", layout="middlebury2005_park/<scene>/color.png and gt_disp.png (8-bit)",
     reader="scene_folders", build_case=sensor_protocol_cases, units="disparity levels",
-    tuning_scenes=SENSOR_TUNING_SCENES, method_params=SENSOR_PEER_PARAMS))
+    tuning_scenes=SENSOR_TUNING_SCENES, method_params=SENSOR_PEER_PARAMS, reprojected=True))
 
 
 # ---------------------------------------------------------------- your own data: bench --pairs DIR

@@ -194,12 +194,24 @@ def run_suite(cases: Sequence, methods: Sequence[str], *, figures: bool = True,
 
 
 def protocol_params(protocol: str) -> dict[str, Any]:
-    """``{method: params}`` a protocol tuned for itself (``Protocol.method_params``); the defaults for the rest."""
-    from ..methods.registry import get_method
+    """``{method: params}`` a protocol tuned for itself (``Protocol.method_params``); the defaults for the rest.
+
+    On a protocol whose inputs are reprojected (``Protocol.reprojected``), every registered method whose
+    parameters have ``reprojected`` is told so (:func:`depthrefine.rig.chain.reprojected_params`).
+    """
+    from ..methods.registry import METHODS, get_method
 
     entry = PROTOCOLS.get(protocol)
     tuned = entry.method_params if entry is not None else {}
-    return {m: get_method(m).params_type(**fields) for m, fields in tuned.items()}
+    params = {m: get_method(m).params_type(**fields) for m, fields in tuned.items()}
+    if entry is not None and entry.reprojected:
+        from ..rig.chain import reprojected_params
+
+        for name in METHODS:
+            told = reprojected_params(name, params.get(name))
+            if told is not None:
+                params[name] = told
+    return params
 
 
 def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] = ()) -> list[str]:
@@ -221,6 +233,12 @@ def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] 
                            for m, f in PROTOCOLS[p].method_params.items() if m in methods)
         notes.append(f"On the {p} protocol the peers use parameters tuned on its own tuning scenes "
                      f"({', '.join(tuned_on_scenes(p))}; benchmarks/tune_peers.py --protocol {p}): {fields}.")
+    for p in (p for p in TUNING_SCENES if PROTOCOLS[p].reprojected and p in present):
+        told = [m for m in methods if getattr(protocol_params(p).get(m), "reprojected", False)]
+        if told:
+            notes.append(f"The {p} protocol's inputs come through the rig chain's reprojection, so "
+                         f"{', '.join(told)} {'is' if len(told) == 1 else 'are'} told so (reprojected = true), "
+                         "as depthrefine run tells them.")
     if "gbp" in methods:
         notes.append("gbp's defaults were chosen on the same tuning scenes, except the local-range clip before the "
                      "guide trust and its hole margin (picked with the realtof Kinect capture in view) and the "

@@ -93,12 +93,13 @@ def add_params_options(parser: argparse.ArgumentParser, *, method_flag: str = "-
                         help="method parameters as TOML (or JSON): key = value per parameter")
     parser.set_defaults(method_flag=method_flag)
     for name, options in registered_method_options().items():
+        options = [o for o in options if o.flag not in parser._option_string_actions]  # not another method's too
+        if not options:
+            continue
         group = parser.add_argument_group(f"{name} method options",
                                           f"parameters of {method_flag} {name} (an error with another method)")
         exclusive: dict[str, Any] = {}
         for option in options:
-            if option.flag in parser._option_string_actions:  # another method's option of the same name
-                continue
             where = group
             if option.exclusive is not None:
                 if option.exclusive not in exclusive:

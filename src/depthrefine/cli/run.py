@@ -104,11 +104,14 @@ def _refine_params(args: argparse.Namespace, chain: ChainSettings) -> tuple[str,
     """The refinement method and its parameters: the settings file's, then --params, then options.
 
     The file's ``[refine.params]`` apply only to the file's method (a
-    different ``--refine-method`` starts from its own defaults).
+    different ``--refine-method`` starts from its own defaults). The method is
+    told the depth was reprojected (:func:`depthrefine.rig.chain.reprojected_params`).
     """
+    from ..rig.chain import reprojected_params
+
     method = args.method or chain.method or DEFAULT_METHOD
     base = chain.params if chain.params and method == (chain.method or DEFAULT_METHOD) else None
-    return method, build_params(args, method=method, base=base)
+    return method, reprojected_params(method, build_params(args, method=method, base=base))
 
 
 def run_chain(args: argparse.Namespace) -> int:

@@ -30,7 +30,9 @@ PROBED_METHODS = ("fbs",)
 
 #: The light modules holding the built-in methods' command-line options (an ``OPTIONS`` tuple each); the
 #: registry gives each method the same tuple (``Method.options``).
-BUILTIN_OPTION_MODULES = {"gbp": "depthrefine.methods.gbp._options", "thesis": "depthrefine.methods.thesis._options"}
+BUILTIN_OPTION_MODULES = {"gbp": "depthrefine.methods.gbp._options",
+                          "gbp-fast": "depthrefine.methods.gbp._fast_options",
+                          "thesis": "depthrefine.methods.thesis._options"}
 
 #: Built-in methods that run numba's compiled kernels: the command line sets numba up in a thread while it
 #: reads the images (:func:`depthrefine._numba.warm_up`).

@@ -28,6 +28,7 @@ from ._names import DEFAULT_METHOD
 from .intermediates import Intermediates
 from .options import MethodOption
 from .scale import plan_scale
+from .gbp._fast_options import OPTIONS as GBP_FAST_OPTIONS
 from .gbp._options import OPTIONS as GBP_OPTIONS
 from .thesis._options import OPTIONS as THESIS_OPTIONS
 from .thesis.intermediates import thesis_intermediates
@@ -303,6 +304,6 @@ register_method("gbp", gbp.upsample_gbp, params_type=gbp.GbpParams, interpolatin
                 refine_stateful=gbp.upsample_gbp_stateful, confidence=gbp.upsample_gbp_with_confidence,
                 summary="guided back-projection (the default): back-projection with a color-guided smoother, "
                         "noise-adaptive, falling back to bicubic where the guide disagrees with the depth")
-register_method("gbp-fast", upsample_gbp_fast, params_type=GbpFastParams, interpolating=True,
+register_method("gbp-fast", upsample_gbp_fast, params_type=GbpFastParams, interpolating=True, options=GBP_FAST_OPTIONS,
                 summary="gbp for video rates: back-projection on a reduced grid, one edge-aware solve at full "
                         "resolution, the same fallback where the guide disagrees with the depth")

@@ -23,7 +23,8 @@ from .shift import (COLOR_SIDES, ENCODINGS, MAX_SHIFT_MISREGISTRATION, align_shi
 from .undistort import undistort_depth, undistort_image
 
 __all__ = ["ALIGN_METHODS", "AlignSettings", "AlignedPair", "align_depth", "align_pair", "unmeasured_on_grid",
-           "keep_unmeasured", "unmeasured_along_color", "nearest_on_grid", "upsampling_grid", "refine_pair"]
+           "keep_unmeasured", "unmeasured_along_color", "nearest_on_grid", "upsampling_grid", "refine_pair",
+           "reprojected_params"]
 
 #: The smallest factor the refinement of an aligned pair upsamples by (:func:`upsampling_grid`).
 MIN_UPSAMPLING = 2
@@ -409,6 +410,29 @@ def upsampling_grid(depth_shape: tuple[int, ...], color_shape: tuple[int, ...]) 
     return s, (int(depth_shape[0]) * s, int(depth_shape[1]) * s)
 
 
+def reprojected_params(method: str, params=None):
+    """``params`` of ``method`` with ``reprojected=True`` where the method's parameters have it (gbp, gbp-fast).
+
+    The chain reprojected the depth onto the color camera, so it tells the
+    method so (:attr:`depthrefine.GbpParams.reprojected`); ``params=None``
+    stands for the method's defaults. A method without that parameter gets
+    ``params`` unchanged.
+
+    Examples
+    --------
+    >>> reprojected_params("gbp").reprojected, reprojected_params("bicubic")
+    (True, None)
+    """
+    import dataclasses
+
+    from ..methods.registry import get_method
+
+    kind = get_method(method).params_type
+    if kind is None or "reprojected" not in {f.name for f in dataclasses.fields(kind)}:
+        return params
+    return dataclasses.replace(kind() if params is None else params, reprojected=True)
+
+
 def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params=None,
                 progress=None, solve=None) -> tuple[np.ndarray, str]:
     """Refine an aligned pair onto the color image's grid, the method upsampling by :func:`upsampling_grid`'s ``s``.
@@ -420,10 +444,12 @@ def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params
     rgb_hr : (H, W, 3) ndarray
         The color image it was aligned to.
     method, params, progress
-        As :func:`depthrefine.refine`.
+        As :func:`depthrefine.refine`; ``params`` are told the depth was
+        reprojected (:func:`reprojected_params`).
     solve : callable, optional
         ``solve(depth, rgb) -> depth`` in place of ``refine(depth, rgb, method=method, ...)``
-        (a warm start over frames: ``depthrefine batch --temporal``).
+        (a warm start over frames: ``depthrefine batch --temporal``); it
+        takes its own parameters (:func:`reprojected_params` for them).
 
     Returns
     -------
@@ -437,8 +463,10 @@ def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params
     from ..methods.scale import plan_scale
 
     if solve is None:
+        told = reprojected_params(method, params)
+
         def solve(depth, rgb):
-            return refine(depth, rgb, method=method, params=params, progress=progress)
+            return refine(depth, rgb, method=method, params=told, progress=progress)
 
     rows, cols = rgb_hr.shape[:2]
     s, (work_rows, work_cols) = upsampling_grid(depth_lr.shape, rgb_hr.shape)

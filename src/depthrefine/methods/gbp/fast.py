@@ -37,7 +37,8 @@ from ..._validate import as_depth, check_int, check_number, check_rgb, guide_uin
 from .fattening import clearly_unfattened, thin_fattened
 from .measure import measure_input
 from .params import GbpParams
-from .solve import GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, resize
+from .solve import (GUIDE_NOISE, back_project, clip_to_bounds, detail_lambda, flat_blend, local_bounds, make_solver,
+                    resize)
 from .trust import blend_fallback, measured_trust
 
 __all__ = ["GbpFastParams", "upsample_gbp_fast"]
@@ -60,9 +61,11 @@ NOISE_ROWS = 8
 class GbpFastParams:
     """Parameters of ``gbp-fast`` (``method="gbp-fast"``).
 
-    ``lambda_lr``, ``sigma_color``, ``flat_lambda_lr``, ``gradient_levels``
-    and ``guide_smoothing`` are gbp's
-    (:class:`~.params.GbpParams`, same defaults and meaning).
+    ``lambda_lr``, ``sigma_color``, ``flat_lambda_lr``, ``gradient_levels``,
+    ``guide_smoothing`` and ``reprojected`` are gbp's
+    (:class:`~.params.GbpParams`, same defaults and meaning; with
+    ``reprojected`` both the work-grid rounds and the full-resolution solve
+    smooth at least as much as ``lambda_lr = 2``).
 
     Attributes
     ----------
@@ -88,6 +91,7 @@ class GbpFastParams:
     gradient_levels: float = GbpParams.gradient_levels
     guide_smoothing: float = GbpParams.guide_smoothing
     trust: bool = False
+    reprojected: bool = GbpParams.reprojected
 
     def __post_init__(self) -> None:
         check_int("rounds", self.rounds, minimum=1)
@@ -192,7 +196,7 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
         s = 0.5 * (shape[0] / depth.shape[0] + shape[1] / depth.shape[1])
         x = resize(x, shape, cv2.INTER_CUBIC)
         sigma_color = max(p.sigma_color, GUIDE_NOISE * m.guide_noise)
-        lam = FINAL_LAMBDA * p.lambda_lr * s * s
+        lam = FINAL_LAMBDA * detail_lambda(g) * s * s
         if p.gradient_levels > 0:
             x = _wls.guided_smooth(x, guide, sigma_color, p.gradient_levels * m.span / 255.0 / s, lam,
                                    iterations=FINAL_ITERATIONS)

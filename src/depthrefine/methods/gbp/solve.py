@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from .params import GbpParams
 
 __all__ = ["Solver", "Bounds", "make_solver", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
-           "back_project",
+           "back_project", "detail_lambda",
            "flat_blend", "reduce", "resize"]
 
 # ---- the detail solve
@@ -46,6 +46,10 @@ LAMBDA_LAST = 0.35
 NOISE_REF = 1.0
 #: On a point-sampled input the smoothing is this many times stronger (it fills the gaps between the samples).
 POINT_LAMBDA = 10.0
+#: On a reprojected input (``GbpParams.reprojected``) the detail solve's smoothness is at least this, per squared
+#: depth pixel: the ``sensor`` protocol's tuning mean (both sensor models) fell from 0.06 to 2 and stayed within
+#: 0.3 % at 4 (``docs/tuning.md``).
+REPROJECTED_LAMBDA_LR = 2.0
 #: The color sensitivity of the solves is at least this many times the guide's own noise.
 GUIDE_NOISE = 3.0
 #: The guide's 3x3 bilateral filter (``GbpParams.guide_smoothing``): diameter and spatial sigma, color pixels.
@@ -297,6 +301,12 @@ def _coarse(solver: Solver, m: InputMeasures) -> Solver | None:
     return solver.reduced if m.footprint >= COARSE_MIN_FOOTPRINT else None
 
 
+def detail_lambda(p: GbpParams) -> float:
+    """The detail solve's smoothness per squared depth pixel: ``p.lambda_lr``, at least
+    :data:`REPROJECTED_LAMBDA_LR` on a reprojected input (``p.reprojected``)."""
+    return max(p.lambda_lr, REPROJECTED_LAMBDA_LR) if p.reprojected else p.lambda_lr
+
+
 def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds,
                  progress: Progress | None = None, *, solve_iterations: int | None = None) -> np.ndarray:
     """Steps 2-3: the clipped bicubic start, then ``p.iterations`` back-projection rounds.
@@ -328,7 +338,7 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds,
     (h, w), shape = m.depth.shape, solver.shape
     solve_iterations = SOLVE_ITERATIONS if solve_iterations is None else solve_iterations
     # the smoothing strength per round, the same on either grid
-    lam = p.lambda_lr * solver.scale * solver.scale * (1.0 + (m.sigma_levels / NOISE_REF) ** 2) * (
+    lam = detail_lambda(p) * solver.scale * solver.scale * (1.0 + (m.sigma_levels / NOISE_REF) ** 2) * (
         1.0 + (POINT_LAMBDA - 1.0) * (1.0 - m.footprint))
     coarse = _coarse(solver, m)
     first = min(COARSE_ROUNDS, p.iterations - 1) if coarse is not None else 0
