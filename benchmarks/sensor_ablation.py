@@ -9,10 +9,13 @@ with the input's holes filled from the truth (each hole pixel the mean of
 the truth over its block), and with the weighted-median peer's result put in
 place of gbp's in the band of gbp's large input jumps (``--band-median``).
 Printed per variant: the mean RMSE of gbp, of the protocol-tuned ``wmf``
-peer, and their ratio (below 1: gbp ahead)::
+peer, and their ratio (below 1: gbp ahead). gbp runs with its defaults, its
+input's reprojection unsaid (as when ``docs/tuning.md``'s table was made);
+``--reprojected`` tells it, as the bench now does::
 
     python benchmarks/sensor_ablation.py                     # iToF, x4 and x8
     python benchmarks/sensor_ablation.py --model dtof --scales 4,8,16 --band-median
+    python benchmarks/sensor_ablation.py --reprojected
 """
 
 from __future__ import annotations
@@ -52,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     from depthrefine.bench.metrics import rmse
     from depthrefine.bench.protocols import load_cases
     from depthrefine.bench.sensor import SENSOR_MODELS, SENSOR_PEER_PARAMS, sensor_seed, simulate_sensor
-    from depthrefine.methods.gbp import upsample_gbp
+    from depthrefine.methods.gbp import GbpParams, upsample_gbp
     from depthrefine.methods.gbp.measure import measure_input
     from depthrefine.methods.peers import WeightedMedianParams, upsample_wmf
     from depthrefine._validate import as_depth
@@ -62,12 +65,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--data", type=Path, default=default, help="benchmark data folder (default: ../shared/data)")
     parser.add_argument("--model", choices=sorted(SENSOR_MODELS), default="itof")
     parser.add_argument("--scales", default="4,8", help="comma-separated scales (default 4,8)")
+    parser.add_argument("--reprojected", action="store_true",
+                        help="tell gbp its input is reprojected (GbpParams.reprojected), as the bench does")
     parser.add_argument("--band-median", action="store_true",
                         help="also: the weighted median in the band of gbp's large input jumps, gbp elsewhere")
     args = parser.parse_args(argv)
     scales = tuple(int(s) for s in args.scales.split(","))
     model = SENSOR_MODELS[args.model]
     wmf = WeightedMedianParams(**SENSOR_PEER_PARAMS["wmf"])
+    told = GbpParams(reprojected=True) if args.reprojected else None
     cases = [c for c in load_cases(args.data, "park", scales)]
     if not cases:
         print(f"no Park scenes under {args.data}; give --data", file=sys.stderr)
@@ -79,14 +85,14 @@ def main(argv: list[str] | None = None) -> int:
         for name, fields in {"as in the protocol": {}, **PARTS_OFF}.items():
             depth_lr = simulate_sensor(truth, case.rgb_hr, scale=case.scale, seed=seed,
                                        model=dataclasses.replace(model, **fields))
-            gbp = upsample_gbp(depth_lr, case.rgb_hr)
+            gbp = upsample_gbp(depth_lr, case.rgb_hr, params=told)
             peer = upsample_wmf(depth_lr, case.rgb_hr, params=wmf)
             variants.setdefault(name, []).append((rmse(gbp, case.depth_gt), rmse(peer, case.depth_gt)))
             if fields:
                 continue
             filled = _holes_from_truth(depth_lr, case.depth_gt, case.scale)
             variants.setdefault("holes filled from the truth", []).append(
-                (rmse(upsample_gbp(filled, case.rgb_hr), case.depth_gt),
+                (rmse(upsample_gbp(filled, case.rgb_hr, params=told), case.depth_gt),
                  rmse(upsample_wmf(filled, case.rgb_hr, params=wmf), case.depth_gt)))
             if args.band_median:
                 with warnings.catch_warnings():

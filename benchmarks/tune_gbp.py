@@ -73,7 +73,7 @@ def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple
     for protocol in protocols:
         # as the bench: a protocol of reprojected inputs (sensor) tells gbp so
         told = params
-        if PROTOCOLS[protocol].reprojected and "reprojected" not in fields:   # --set reprojected=false is kept
+        if PROTOCOLS[protocol].reprojected and params.reprojected is None:   # --set reprojected=false is kept
             told = dataclasses.replace(params, reprojected=True)
         for case in load_cases(data, protocol, SCALES):
             if case.scene in TUNING_SCENES[protocol]:

@@ -20,7 +20,8 @@ Usage::
     python benchmarks/tune_gbp_fast.py --test --peers /tmp/bench/scores.csv
     python benchmarks/tune_gbp_fast.py --protocols sensor --set lambda_lr=1.0   # the sensor tuning scenes
 
-As the bench, the ``sensor`` protocol's cases set ``reprojected`` (unless ``--set reprojected=...``).
+As the bench, the ``sensor`` protocol's cases make an unsaid ``reprojected`` True (``--set reprojected=false``
+keeps it off).
 """
 
 from __future__ import annotations
@@ -63,12 +64,11 @@ def params_from(settings: list[tuple[str, object]]):
     return fast.GbpFastParams(**fields)
 
 
-def cell_means(data: Path, params, split: str, protocols: tuple[str, ...], *,
-               as_the_bench: bool = True) -> dict[tuple[str, int], float]:
+def cell_means(data: Path, params, split: str, protocols: tuple[str, ...]) -> dict[tuple[str, int], float]:
     """Mean RMSE of gbp-fast per (protocol, scale) over the scenes of ``split`` (``"tune"`` or ``"test"``).
 
-    A simulated sensor's cells also per model (``("sensor itof", 4)``). With ``as_the_bench`` a protocol of
-    reprojected inputs (``sensor``) sets ``reprojected`` as the bench does; else ``params`` go as they are.
+    A simulated sensor's cells also per model (``("sensor itof", 4)``). As the bench, a protocol of reprojected
+    inputs (``sensor``) makes an unsaid ``reprojected`` True.
     """
     from depthrefine.bench.metrics import score
     from depthrefine.bench.protocols import PROTOCOLS as REGISTERED, load_cases
@@ -82,7 +82,7 @@ def cell_means(data: Path, params, split: str, protocols: tuple[str, ...], *,
         except (OSError, ValueError):
             continue
         told = params
-        if as_the_bench and REGISTERED[protocol].reprojected:
+        if REGISTERED[protocol].reprojected and params.reprojected is None:   # --set reprojected=false is kept
             told = dataclasses.replace(params, reprojected=True)
         for case in cases:
             if case.split == split:
@@ -146,15 +146,14 @@ def main(argv: list[str] | None = None) -> int:
     params = params_from(args.settings)
     label = ", ".join(f"{n}={v}" for n, v in args.settings) or "defaults"
     t0 = time.perf_counter()
-    as_the_bench = "reprojected" not in dict(args.settings)   # --set reprojected=false is kept
-    means = cell_means(args.data, params, "tune", args.protocols, as_the_bench=as_the_bench)
+    means = cell_means(args.data, params, "tune", args.protocols)
     per_scale = [np.mean([v for (p, s), v in means.items() if s == scale and p in args.protocols]) for scale in SCALES]
     if args.protocols != PROTOCOLS:
         for name in sorted({p for p, _ in means}):
             print(f"{name:13s} " + " / ".join(f"x{s} {means[name, s]:.4f}" for s in SCALES if (name, s) in means))
     print(f"tuning mean {np.mean(per_scale):.4f}  ({label}; {time.perf_counter() - t0:.0f} s)")
     if args.test:
-        test = cell_means(args.data, params, "test", ALL_PROTOCOLS, as_the_bench=as_the_bench)
+        test = cell_means(args.data, params, "test", ALL_PROTOCOLS)
         peers = peer_means(args.peers) if args.peers else {}
         worst = 0.0
         for (protocol, scale), value in sorted(test.items()):

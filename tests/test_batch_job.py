@@ -283,6 +283,25 @@ def test_implausible_depth_units_are_a_warning_naming_the_units_and_the_median(c
                             "outside the 5 cm .. 50 m a ToF camera measures: the units are probably wrong"]
 
 
+def test_a_rigs_frames_tell_the_method_they_are_reprojected(rig_folder, tmp_path):
+    """With a rig, as run: gbp's unsaid ``reprojected`` becomes True when the frames are solved and in the record;
+    a said False stays; registered frames and other methods keep their parameters."""
+    from depthrefine.methods.gbp import GbpParams
+
+    gbp = get_method("gbp")
+    assert FramePlan(gbp, rig=RIG).told_params() == GbpParams(reprojected=True)
+    assert FramePlan(gbp, GbpParams(reprojected=False), rig=RIG).told_params() == GbpParams(reprojected=False)
+    assert FramePlan(gbp).told_params() is None and FramePlan(get_method("bilinear"), rig=RIG).told_params() is None
+    job = BatchJob(open_sequence(rig_folder / "seq"), tmp_path / "out",
+                   BatchOptions(method="gbp", rig=RIG, align=AlignSettings(depth_units=0.001)))
+    assert job.settings()["params"]["reprojected"] is True
+    depth = read_depth(rig_folder / "seq" / "depth" / "0000.png")
+    rgb = read_rgb(rig_folder / "seq" / "color" / "0000.png")
+    told, _ = solve_frame(job.plan, depth, rgb)
+    kept, _ = solve_frame(FramePlan(gbp, GbpParams(reprojected=False), rig=RIG, align=job.plan.align), depth, rgb)
+    assert not np.array_equal(told.depth_hr, kept.depth_hr, equal_nan=True)
+
+
 def test_the_recordings_own_calibration_and_units_run_the_chain(client, rig_folder, tmp_path):
     seq = open_sequence(rig_folder / "seq")
     seq.rig, seq.raw, seq.depth_units = RIG, True, 0.001  # what a recording reader gives

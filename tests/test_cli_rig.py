@@ -469,3 +469,16 @@ def test_run_save_color_and_factor_options(captures, tmp_path, capsys):
                          (["--factor", "0.5"], "expected a number >= 1")):
         assert main([*common, "-o", str(tmp_path / "x.png"), *bad]) == 2
         assert message in capsys.readouterr().err and not (tmp_path / "x.png").exists()
+
+
+def test_run_tells_gbp_its_input_is_reprojected_unless_the_params_say_not(captures, tmp_path):
+    """run makes gbp's unsaid ``reprojected`` True (GbpParams.reprojected), and records it; ``reprojected = false``
+    in a parameter file stays false."""
+    common = [str(captures["depth"]), str(captures["color"]), "--rig", str(captures["rig"]), "--depth-units", "0.001"]
+    assert main(["run", *common, "-o", str(tmp_path / "told.npy"), "--save-settings", str(tmp_path / "told.json")]) == 0
+    (tmp_path / "p.toml").write_text("reprojected = false\n")
+    assert main(["run", *common, "-o", str(tmp_path / "not.npy"), "--params", str(tmp_path / "p.toml"),
+                 "--save-settings", str(tmp_path / "not.json")]) == 0
+    told, kept = (json.loads((tmp_path / f"{n}.json").read_text())["refine"]["params"] for n in ("told", "not"))
+    assert told["reprojected"] is True and kept["reprojected"] is False
+    assert not np.array_equal(np.load(tmp_path / "told.npy"), np.load(tmp_path / "not.npy"), equal_nan=True)

@@ -34,12 +34,21 @@ def test_a_sliver_of_a_hole_that_the_rays_miss_is_enclosed_with_it():
     assert not enclosed[20:23, 395:].any()
 
 
-def test_a_strip_between_two_surfaces_is_no_sliver():
-    depth = np.full((40, 60), 1000.0, np.float32)
-    depth[:, 30:] = 1500.0
-    depth[5:35, 8:52] = np.nan                               # a hole across the jump: neither side encloses it
-    depth[5:35, 29:31] = np.nan
-    assert not enclosed_holes(depth)[5:35, 26:34].any()
+def test_a_sliver_needs_one_surface_around_it_and_an_enclosed_pixel_beside_it():
+    depth = np.full((40, 500), 1000.0, np.float32)           # the rays reach 50 pixels
+    depth[:, 150:] = 1500.0                                  # a depth jump at column 150
+    depth[10:30, 100:140] = np.nan                           # a hole in the near surface ...
+    depth[19:21, 140:152] = np.nan                           # ... with a channel across the jump
+    enclosed = enclosed_holes(depth)
+    assert enclosed[10:19, 100:140].all() and enclosed[21:30, 100:140].all()
+    # rows 19-20 see the far surface through the channel: one group with it, touching enclosed pixels, but
+    # the channel's pixels at the jump see both surfaces within 3 pixels: no sliver
+    assert not enclosed[19:21, 100:152].any()
+    crack = np.full((100, 100), 500.0, np.float32)
+    crack[20:80, 50] = np.nan                                # a crack between measured pixels, no enclosed hole
+    assert enclosed_holes(crack)[20:80, 50].sum() == 0       # nothing enclosed: the rays reach 10 pixels
+    crack[5, 5] = np.nan                                     # a dropout far away changes nothing about it
+    assert enclosed_holes(crack)[20:80, 50].sum() == 0
 
 
 def test_the_smooth_fill_spans_a_plane_exactly_and_leaves_unreached_holes():

@@ -109,7 +109,7 @@ def test_bad_models_and_inputs_are_refused():
 def test_sensor_protocol_cases_and_report_columns(tmp_path):
     from depthrefine.bench import load_cases, run_benchmark
     from depthrefine.bench.report import overview_markdown, summary_tables
-    from depthrefine.bench.suite import protocol_params
+    from depthrefine.bench.suite import protocol_params, report_notes
 
     gt, rgb = _scene(rows=64, cols=128)
     rgb[:, 40:80] = (30, 160, 90)
@@ -133,3 +133,6 @@ def test_sensor_protocol_cases_and_report_columns(tmp_path):
     assert params["gbp"].reprojected and params["gbp-fast"].reprojected
     assert params["gbp"] == type(params["gbp"])(reprojected=True)            # otherwise gbp's defaults
     assert protocol_params("park") == {}
+    notes = report_notes(rows, ["gbp", "bilinear"])
+    assert any("sensor protocol's inputs come through the rig chain's reprojection, so gbp is told so" in n
+               for n in notes)

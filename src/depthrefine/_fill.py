@@ -84,8 +84,8 @@ def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np
     sees can span just over :data:`ENCLOSED_SPREAD` where one of its rays
     meets a measured speck inside the hole: such pixels form lines one or
     two pixels wide through the hole. A connected group (8 neighbours) of
-    unmeasured, not enclosed pixels joins the enclosed ones when it does
-    not touch the image's border and each of its pixels has, within
+    unmeasured, not enclosed pixels joins the enclosed ones when it touches
+    one of them, does not touch the image's border, and each of its pixels has, within
     :data:`SLIVER_REACH` pixels, enclosed or measured pixels whose depths
     (``surface``: the median of an enclosed pixel's four, a measured one's
     own) span at most ``ENCLOSED_SPREAD`` of their largest. A strip between
@@ -104,7 +104,9 @@ def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np
     with np.errstate(invalid="ignore"):
         one_surface = np.isfinite(low) & np.isfinite(high) & ((high - low) <= ENCLOSED_SPREAD * np.abs(high))
     count, labels = cv2.connectedComponents(rest.astype(np.uint8), connectivity=8)
+    beside = cv2.dilate(enclosed.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
     out = np.bincount(labels[rest & ~one_surface], minlength=count) > 0
+    out |= np.bincount(labels[rest & beside], minlength=count) == 0                    # touching no enclosed pixel
     out[np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]])] = True    # touching the border
     out[0] = True                                                                       # not a group at all
     return ~out[labels]

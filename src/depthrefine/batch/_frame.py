@@ -86,6 +86,17 @@ class FramePlan:
         if self.min_confidence is not None and not self.confidence:
             raise ValueError("min_confidence needs the confidence map: set confidence=True.")
 
+    def told_params(self) -> Any:
+        """The method's parameters as the frames are refined: with ``rig``, told the depth is reprojected.
+
+        (:func:`depthrefine.rig.chain.reprojected_params`: an unsaid ``reprojected`` becomes True, as in ``run``.)
+        """
+        if self.rig is None:
+            return self.params
+        from ..rig.chain import reprojected_params
+
+        return reprojected_params(self.method, self.params)
+
 
 @dataclass(eq=False)
 class FrameOutput:
@@ -148,21 +159,22 @@ def solve_frame(plan: FramePlan, depth: np.ndarray, rgb: np.ndarray, state: Any 
 
         pair = align_pair(depth, rgb, plan.rig, settings=plan.align or AlignSettings())
         depth, rgb, camera, notes = pair.depth_lr, pair.rgb_hr, pair.camera, pair.notes
-    check_call(plan.method, depth, rgb, plan.params)
+    params = plan.told_params()
+    check_call(plan.method, depth, rgb, params)
     states = [state]
     confidences: list[np.ndarray | None] = [None]
 
     def solve(depth_in: np.ndarray, rgb_in: np.ndarray) -> np.ndarray:
         if stateful:
-            out, states[0] = plan.method.refine_stateful(depth_in, rgb_in, params=plan.params, state=states[0])
+            out, states[0] = plan.method.refine_stateful(depth_in, rgb_in, params=params, state=states[0])
             if plan.confidence:
-                confidences[0] = confidence_of(plan.method, depth_in, rgb_in, out, params=plan.params)
+                confidences[0] = confidence_of(plan.method, depth_in, rgb_in, out, params=params)
             return out
         states[0] = None
         if plan.confidence:
-            out, confidences[0] = method_with_confidence(plan.method, depth_in, rgb_in, params=plan.params)
+            out, confidences[0] = method_with_confidence(plan.method, depth_in, rgb_in, params=params)
             return out
-        return plan.method.func(depth_in, rgb_in, params=plan.params, progress=None)
+        return plan.method.func(depth_in, rgb_in, params=params, progress=None)
 
     if plan.rig is not None:   # as run does: the method upsamples the aligned grid onto the color image
         from ..rig.chain import refine_pair

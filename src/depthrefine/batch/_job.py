@@ -261,12 +261,7 @@ class BatchJob:
         if options.ply and align.depth_units is None and align.inverse_scale is None:
             raise InputFileError("a point cloud per frame (--ply) needs the depth's units: --depth-units M or "
                                  "--inverse-depth-scale C.")
-        params = options.params
-        if rig is not None:   # the frames are reprojected onto the color camera: the method is told (as by run)
-            from ..rig.chain import reprojected_params
-
-            params = reprojected_params(self.method.name, params)
-        self.plan = FramePlan(self.method, params, rig=rig, align=align, fill_holes=options.fill_holes,
+        self.plan = FramePlan(self.method, options.params, rig=rig, align=align, fill_holes=options.fill_holes,
                               color=options.save_color, points=options.ply, stride=options.ply_stride,
                               preview=options.video is not None,
                               confidence=options.confidence is not None or options.min_confidence is not None,
@@ -328,7 +323,7 @@ class BatchJob:
         out: dict[str, Any] = {
             "input": self.sequence.describe() | {"path": str(Path(self.sequence.source).resolve())},
             "method": self.method.name,
-            "params": _params_dict(self.plan.params),   # with a rig, the method told the frames are reprojected
+            "params": _params_dict(self.plan.told_params()),
             "temporal": bool(o.temporal),
             "chunk": o.chunk if o.temporal else None,
             "max_dt": o.max_dt if self.sequence.topics else None,
@@ -383,8 +378,9 @@ class BatchJob:
         changed = [k for k in _SETTING_KEYS if _comparable(old.get(k)) != _comparable(settings.get(k))]
         if changed:
             raise InputFileError(f"output folder {outdir} holds a batch run with other {', '.join(changed)}; to "
-                                 "resume it give the same command, else choose another folder or pass --overwrite "
-                                 "to redo every frame.")
+                                 "resume it give the same command (another depthrefine version may record other "
+                                 "parameters for it), else choose another folder or pass --overwrite to redo every "
+                                 "frame.")
 
     def _check_first_frame(self) -> None:
         """Align the first frame here: a rig of other sizes, or settings the chain refuses, fail before any work."""

@@ -20,10 +20,10 @@ Fillers (:data:`BASELINE_FILLERS`, or any registered refinement method):
     :data:`INPAINT_RADIUS`) on the float depth: a smooth continuation of the
     border inward ("bicubic inpainting" in issue 20's wording).
 a method name
-    The refinement (:func:`depthrefine.rig.chain.refine_pair`, as ``run`` and
-    ``refine`` do) upsamples the depth with the hidden regions invalid onto the
-    color image's grid; its result is read back at the centre of each
-    hidden depth pixel (nearest).
+    The refinement (:func:`depthrefine.rig.chain.refine_pair`, as ``run``
+    does; told the depth is reprojected only with ``reprojected``) upsamples
+    the depth with the hidden regions invalid onto the color image's grid;
+    its result is read back at the centre of each hidden depth pixel (nearest).
 
 Everything is pure and deterministic (seeded placement).
 """
@@ -188,7 +188,8 @@ def fill_holes(depth: np.ndarray, filler: str) -> np.ndarray:
     raise ValueError(f"unknown filler {filler!r}; use one of {', '.join(BASELINE_FILLERS)} or a refinement method.")
 
 
-def leave_out(depth: np.ndarray, rgb_hr: np.ndarray | None, hidden: np.ndarray, fillers: list[str]) -> list[LeaveOutScore]:
+def leave_out(depth: np.ndarray, rgb_hr: np.ndarray | None, hidden: np.ndarray, fillers: list[str], *,
+              reprojected: bool = False) -> list[LeaveOutScore]:
     """Fill ``depth`` with the ``hidden`` pixels taken out, with each filler, and score the hidden pixels.
 
     Parameters
@@ -201,6 +202,9 @@ def leave_out(depth: np.ndarray, rgb_hr: np.ndarray | None, hidden: np.ndarray, 
         The valid pixels to hide (:func:`place_holes`).
     fillers : list of str
         Baseline fillers or registered method names.
+    reprojected : bool
+        ``depth`` was reprojected onto the color camera by the rig chain (the mug's, not the iPhone's):
+        methods that take ``reprojected`` (gbp, gbp-fast) are told so, as ``run`` tells them.
 
     Returns
     -------
@@ -227,7 +231,7 @@ def leave_out(depth: np.ndarray, rgb_hr: np.ndarray | None, hidden: np.ndarray, 
         else:
             if rgb_hr is None:
                 raise ValueError(f"the refinement method {filler!r} needs the color image.")
-            filled = _refined_on_depth_grid(taken, rgb_hr, filler)
+            filled = _refined_on_depth_grid(taken, rgb_hr, filler, reprojected)
         err = filled[hidden].astype(np.float64) - truth[hidden]
         err = err[np.isfinite(err)]
         n = int(err.size)
@@ -237,10 +241,15 @@ def leave_out(depth: np.ndarray, rgb_hr: np.ndarray | None, hidden: np.ndarray, 
     return scores
 
 
-def _refined_on_depth_grid(depth: np.ndarray, rgb_hr: np.ndarray, method: str) -> np.ndarray:
+def _refined_on_depth_grid(depth: np.ndarray, rgb_hr: np.ndarray, method: str, reprojected: bool) -> np.ndarray:
     """Refine onto the color grid (as ``run`` does) and read the result at each depth pixel's centre."""
-    from ..rig.chain import refine_pair
+    import dataclasses
 
-    refined, _ = refine_pair(depth, rgb_hr, method=method)
+    from ..rig.chain import refine_pair, reprojected_params
+
+    params = reprojected_params(method)   # None for a method without the knob
+    if params is not None and not reprojected:
+        params = dataclasses.replace(params, reprojected=False)
+    refined, _ = refine_pair(depth, rgb_hr, method=method, params=params)
     rows, cols = depth.shape
     return cv2.resize(np.asarray(refined, np.float32), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT)

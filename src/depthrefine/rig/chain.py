@@ -410,27 +410,37 @@ def upsampling_grid(depth_shape: tuple[int, ...], color_shape: tuple[int, ...]) 
     return s, (int(depth_shape[0]) * s, int(depth_shape[1]) * s)
 
 
-def reprojected_params(method: str, params=None):
-    """``params`` of ``method`` with ``reprojected=True`` where the method's parameters have it (gbp, gbp-fast).
+def reprojected_params(method, params=None):
+    """``params`` of ``method`` with an unsaid ``reprojected`` (None) made True, where the method has it (gbp, gbp-fast).
 
     The chain reprojected the depth onto the color camera, so it tells the
-    method so (:attr:`depthrefine.GbpParams.reprojected`); ``params=None``
-    stands for the method's defaults. A method without that parameter gets
-    ``params`` unchanged.
+    method so (:attr:`depthrefine.GbpParams.reprojected`). ``method`` is a
+    registered name or a registry entry (``Method``, as a batch's workers
+    get it); ``params=None`` stands for the method's defaults. A
+    ``reprojected`` already said (True or False) stays; a method without
+    that parameter, or ``params`` of another type (``refine`` then says what
+    is wrong), gets ``params`` unchanged.
 
     Examples
     --------
+    >>> from depthrefine import GbpParams
     >>> reprojected_params("gbp").reprojected, reprojected_params("bicubic")
     (True, None)
+    >>> reprojected_params("gbp", GbpParams(reprojected=False)).reprojected
+    False
     """
     import dataclasses
 
     from ..methods.registry import get_method
 
-    kind = get_method(method).params_type
+    kind = (get_method(method) if isinstance(method, str) else method).params_type
     if kind is None or "reprojected" not in {f.name for f in dataclasses.fields(kind)}:
         return params
-    return dataclasses.replace(kind() if params is None else params, reprojected=True)
+    if params is None:
+        return kind(reprojected=True)
+    if not isinstance(params, kind) or params.reprojected is not None:
+        return params
+    return dataclasses.replace(params, reprojected=True)
 
 
 def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params=None,
@@ -444,8 +454,8 @@ def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params
     rgb_hr : (H, W, 3) ndarray
         The color image it was aligned to.
     method, params, progress
-        As :func:`depthrefine.refine`; ``params`` are told the depth was
-        reprojected (:func:`reprojected_params`).
+        As :func:`depthrefine.refine`; an unsaid ``reprojected`` in ``params``
+        becomes True (:func:`reprojected_params`).
     solve : callable, optional
         ``solve(depth, rgb) -> depth`` in place of ``refine(depth, rgb, method=method, ...)``
         (a warm start over frames: ``depthrefine batch --temporal``); it

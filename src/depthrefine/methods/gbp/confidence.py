@@ -57,7 +57,7 @@ def upsample_gbp_with_confidence(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, pa
     """
     keep: dict = {}
     result, measures = _refine(as_depth(depth_lr), guide_uint8(check_rgb(rgb_hr)), params, progress, keep=keep)
-    reprojected = params is not None and params.reprojected
+    reprojected = params is not None and bool(params.reprojected)
     return result, gbp_confidence(result, measures, keep["guided"], disagreement=reprojected)
 
 

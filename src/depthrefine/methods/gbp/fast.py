@@ -91,7 +91,7 @@ class GbpFastParams:
     gradient_levels: float = GbpParams.gradient_levels
     guide_smoothing: float = GbpParams.guide_smoothing
     trust: bool = False
-    reprojected: bool = GbpParams.reprojected
+    reprojected: bool | None = GbpParams.reprojected
 
     def __post_init__(self) -> None:
         check_int("rounds", self.rounds, minimum=1)

@@ -70,19 +70,22 @@ class GbpParams:
         ``--snap-edges`` on the command line); on the benchmark's registered,
         textured inputs it follows texture edges (tuning mean 2.39 -> 6.10,
         ``docs/tuning.md``), hence off.
-    reprojected : bool
+    reprojected : bool or None
         The input was reprojected onto the color camera from a depth camera
-        beside it (False; ``depthrefine run`` and ``batch`` with a rig, which
-        reproject it themselves, set it; ``--reprojected`` for a depth map
-        your camera's SDK aligned to the color image). Its samples then sit a
-        fraction of a depth pixel off where the back-projection assumes them
-        (the calibration's error, the parallax between two surfaces), which
-        no input noise shows: the detail solve smooths at least as much as
-        ``lambda_lr = 2`` (``solve.REPROJECTED_LAMBDA_LR``). On the
-        ``sensor`` protocol's test scenes it takes gbp from 5.34 / 6.26 /
-        9.72 to 5.01 / 5.89 / 9.35 levels under direct ToF (x4 / x8 / x16)
-        and from 5.03 / 5.86 / 6.55 to 4.74 / 5.62 / 6.29 under indirect ToF
-        (``docs/bench.md``).
+        beside it. None (the default) leaves it unsaid: ``refine`` takes it
+        as False, the rig chain (``depthrefine run``, ``batch`` with a rig,
+        :func:`depthrefine.rig.chain.refine_pair`), which reprojected the
+        depth itself, as True; ``--reprojected`` says True for a depth map
+        your camera's SDK aligned to the color image, and ``reprojected =
+        false`` in a parameter file keeps it False everywhere. A reprojected
+        sample sits a fraction of a depth pixel off where the
+        back-projection assumes it (the calibration's error, the parallax
+        between two surfaces), which no input noise shows: the detail solve
+        smooths at least as much as ``lambda_lr = 2``
+        (``solve.REPROJECTED_LAMBDA_LR``). On the ``sensor`` protocol's test
+        scenes it takes gbp from 5.34 / 6.26 / 9.72 to 5.01 / 5.89 / 9.35
+        levels under direct ToF (x4 / x8 / x16) and from 5.03 / 5.86 / 6.55
+        to 4.74 / 5.62 / 6.29 under indirect ToF (``docs/bench.md``).
     """
 
     iterations: int = 8
@@ -93,7 +96,7 @@ class GbpParams:
     guide_smoothing: float = 5.0
     trust: bool = True
     snap_edges: bool = False
-    reprojected: bool = False
+    reprojected: bool | None = None
 
     #: Former parameters (before 0.2) and the value the method now fixes them at.
     removed_parameters: ClassVar[Mapping[str, str]] = {
@@ -127,6 +130,8 @@ class GbpParams:
             check_number(name, getattr(self, name), positive=True)
         for name in ("gradient_levels", "guide_smoothing"):
             check_number(name, getattr(self, name), nonnegative=True)
-        for name in ("trust", "snap_edges", "reprojected"):
+        for name in ("trust", "snap_edges"):
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise TypeError(f"{name} must be True or False; got {getattr(self, name)!r}.")
+        if self.reprojected is not None and not isinstance(self.reprojected, (bool, np.bool_)):
+            raise TypeError(f"reprojected must be True, False or None (unsaid); got {self.reprojected!r}.")

@@ -303,7 +303,7 @@ def _coarse(solver: Solver, m: InputMeasures) -> Solver | None:
 
 def detail_lambda(p: GbpParams) -> float:
     """The detail solve's smoothness per squared depth pixel: ``p.lambda_lr``, at least
-    :data:`REPROJECTED_LAMBDA_LR` on a reprojected input (``p.reprojected``)."""
+    :data:`REPROJECTED_LAMBDA_LR` on a reprojected input (``p.reprojected`` True; None counts as False)."""
     return max(p.lambda_lr, REPROJECTED_LAMBDA_LR) if p.reprojected else p.lambda_lr
 
 
