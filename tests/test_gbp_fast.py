@@ -108,15 +108,16 @@ def test_the_shared_knobs_are_gbps():
 
 
 def test_reprojected_smooths_away_the_misplacement_of_the_samples():
-    """As gbp's ``reprojected``: both the work-grid rounds and the full-resolution solve smooth as much as
-    ``lambda_lr = 2``; on samples misplaced by up to half a depth pixel the RMSE falls from 7.1 to 2.0."""
+    """As gbp's ``reprojected``, for the work-grid rounds (the full-resolution solve keeps its strength): on
+    samples misplaced by up to half a depth pixel the RMSE falls from 7.1 to 4.9."""
     from test_gbp import misplaced_samples
 
     gt, rgb, depth_lr = misplaced_samples(0)
     plain = upsample_gbp_fast(depth_lr, rgb)
     told = upsample_gbp_fast(depth_lr, rgb, params=GbpFastParams(reprojected=True))
-    np.testing.assert_array_equal(told, upsample_gbp_fast(depth_lr, rgb, params=GbpFastParams(lambda_lr=2.0)))
-    assert rmse(told, gt) < 0.5 * rmse(plain, gt)
+    # not lambda_lr = 2 throughout: that raises the full-resolution solve too
+    assert not np.array_equal(told, upsample_gbp_fast(depth_lr, rgb, params=GbpFastParams(lambda_lr=2.0)))
+    assert rmse(told, gt) < 0.75 * rmse(plain, gt)
 
 
 def test_cli_reprojected_sets_the_knob_of_gbp_and_gbp_fast_and_no_other(tmp_path, capsys):
