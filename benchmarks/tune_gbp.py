@@ -24,7 +24,6 @@ around the truth's depth edges), the sensor protocol's second target.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import importlib
 import sys
 import time
@@ -48,6 +47,11 @@ def _setting(text: str) -> tuple[str, float | int | bool]:
     return name.strip(), parsed
 
 
+def model_row(protocol: str, scene: str) -> str | None:
+    """``"sensor itof"`` for a simulated sensor's scene ``<scene>-<model>``: its cells are also printed per model."""
+    return f"{protocol} {scene.rsplit('-', 1)[1]}" if "-" in scene else None
+
+
 def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple[str, ...] = PROTOCOLS,
                 edges: bool = False) -> tuple[float, dict[tuple[str, int], float]]:
     """The tuning mean and the mean RMSE per (protocol, scale) and per scale (key ``("all", scale)``).
@@ -57,6 +61,7 @@ def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple
     from depthrefine.bench.metrics import score
     from depthrefine.bench.protocols import PROTOCOLS, TUNING_SCENES, load_cases
     from depthrefine.methods.gbp import GbpParams, upsample_gbp
+    from depthrefine.rig.chain import reprojected_params
 
     fields = {}
     for name, value in settings:
@@ -71,19 +76,16 @@ def tuning_mean(data: Path, settings: list[tuple[str, object]], protocols: tuple
     params = GbpParams(**fields)
     scores: dict[tuple[str, int], list[float]] = {}
     for protocol in protocols:
-        # as the bench: a protocol of reprojected inputs (sensor) tells gbp so
-        told = params
-        if PROTOCOLS[protocol].reprojected and params.reprojected is None:   # --set reprojected=false is kept
-            told = dataclasses.replace(params, reprojected=True)
+        # as the bench: a protocol of reprojected inputs (sensor) tells gbp so (--set reprojected=false is kept)
+        told = reprojected_params("gbp", params) if PROTOCOLS[protocol].reprojected else params
         for case in load_cases(data, protocol, SCALES):
             if case.scene in TUNING_SCENES[protocol]:
                 out = upsample_gbp(case.depth_lr, case.rgb_hr, params=told)
                 scored = score(out, case.depth_gt, border=case.border)
                 scores.setdefault((protocol, case.scale), []).append(scored.rmse)
                 scores.setdefault(("all", case.scale), []).append(scored.rmse)
-                if "-" in case.scene:   # a simulated sensor's scene, <scene>-<model>: also per model
-                    model = f"{protocol} {case.scene.rsplit('-', 1)[1]}"
-                    scores.setdefault((model, case.scale), []).append(scored.rmse)
+                if (row := model_row(protocol, case.scene)) is not None:
+                    scores.setdefault((row, case.scale), []).append(scored.rmse)
                 if edges:
                     scores.setdefault((f"{protocol} edge", case.scale), []).append(scored.edge_rmse)
     means = {key: float(np.mean(values)) for key, values in scores.items()}

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import dataclasses
 import importlib
 import statistics
 import sys
@@ -38,9 +37,9 @@ from pathlib import Path
 import numpy as np
 
 try:
-    from benchmarks.tune_gbp import PROTOCOLS, SCALES, _setting
+    from benchmarks.tune_gbp import PROTOCOLS, SCALES, _setting, model_row
 except ImportError:  # run as a script from benchmarks/
-    from tune_gbp import PROTOCOLS, SCALES, _setting
+    from tune_gbp import PROTOCOLS, SCALES, _setting, model_row
 
 #: The peers gbp-fast must beat in every cell (issue 22).
 PEERS = ("bicubic", "jbf", "guided", "fgs", "wmf")
@@ -73,6 +72,7 @@ def cell_means(data: Path, params, split: str, protocols: tuple[str, ...]) -> di
     from depthrefine.bench.metrics import score
     from depthrefine.bench.protocols import PROTOCOLS as REGISTERED, load_cases
     from depthrefine.methods.gbp.fast import upsample_gbp_fast
+    from depthrefine.rig.chain import reprojected_params
 
     scores: dict[tuple[str, int], list[float]] = {}
     for protocol in protocols:
@@ -81,16 +81,15 @@ def cell_means(data: Path, params, split: str, protocols: tuple[str, ...]) -> di
             cases = load_cases(data, protocol, scales, notes=[])
         except (OSError, ValueError):
             continue
-        told = params
-        if REGISTERED[protocol].reprojected and params.reprojected is None:   # --set reprojected=false is kept
-            told = dataclasses.replace(params, reprojected=True)
+        # as the bench: a protocol of reprojected inputs (sensor) tells the method so (--set reprojected=false is kept)
+        told = reprojected_params("gbp-fast", params) if REGISTERED[protocol].reprojected else params
         for case in cases:
             if case.split == split:
                 out = upsample_gbp_fast(case.depth_lr, case.rgb_hr, params=told)
                 rmse = score(out, case.depth_gt, border=case.border).rmse
                 scores.setdefault((protocol, case.scale), []).append(rmse)
-                if "-" in case.scene:   # a simulated sensor's scene, <scene>-<model>
-                    scores.setdefault((f"{protocol} {case.scene.rsplit('-', 1)[1]}", case.scale), []).append(rmse)
+                if (row := model_row(protocol, case.scene)) is not None:
+                    scores.setdefault((row, case.scale), []).append(rmse)
     return {key: float(np.mean(v)) for key, v in scores.items()}
 
 

@@ -102,7 +102,7 @@ def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np
     high = cv2.dilate(np.where(known, surface, -np.inf).astype(np.float32), window,
                       borderType=cv2.BORDER_REPLICATE)
     with np.errstate(invalid="ignore"):
-        one_surface = np.isfinite(low) & np.isfinite(high) & ((high - low) <= ENCLOSED_SPREAD * np.abs(high))
+        one_surface = np.isfinite(low) & ((high - low) <= ENCLOSED_SPREAD * np.abs(high))   # finite: known ones near
     count, labels = cv2.connectedComponents(rest.astype(np.uint8), connectivity=8)
     beside = cv2.dilate(enclosed.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
     out = np.bincount(labels[rest & ~one_surface], minlength=count) > 0

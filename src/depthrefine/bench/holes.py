@@ -243,13 +243,8 @@ def leave_out(depth: np.ndarray, rgb_hr: np.ndarray | None, hidden: np.ndarray, 
 
 def _refined_on_depth_grid(depth: np.ndarray, rgb_hr: np.ndarray, method: str, reprojected: bool) -> np.ndarray:
     """Refine onto the color grid (as ``run`` does) and read the result at each depth pixel's centre."""
-    import dataclasses
+    from ..rig.chain import refine_pair
 
-    from ..rig.chain import refine_pair, reprojected_params
-
-    params = reprojected_params(method)   # None for a method without the knob
-    if params is not None and not reprojected:
-        params = dataclasses.replace(params, reprojected=False)
-    refined, _ = refine_pair(depth, rgb_hr, method=method, params=params)
+    refined, _ = refine_pair(depth, rgb_hr, method=method, reprojected=reprojected)
     rows, cols = depth.shape
     return cv2.resize(np.asarray(refined, np.float32), (cols, rows), interpolation=cv2.INTER_NEAREST_EXACT)

@@ -234,7 +234,8 @@ def report_notes(rows: Sequence, methods: Sequence[str], skipped: Sequence[str] 
         notes.append(f"On the {p} protocol the peers use parameters tuned on its own tuning scenes "
                      f"({', '.join(tuned_on_scenes(p))}; benchmarks/tune_peers.py --protocol {p}): {fields}.")
     for p in (p for p in TUNING_SCENES if PROTOCOLS[p].reprojected and p in present):
-        told = [m for m in methods if getattr(protocol_params(p).get(m), "reprojected", False)]
+        params = protocol_params(p)
+        told = [m for m in methods if getattr(params.get(m), "reprojected", False)]
         if told:
             notes.append(f"The {p} protocol's inputs come through the rig chain's reprojection, so "
                          f"{', '.join(told)} {'is' if len(told) == 1 else 'are'} told so (reprojected = true), "

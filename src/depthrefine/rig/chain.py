@@ -444,7 +444,7 @@ def reprojected_params(method, params=None):
 
 
 def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params=None,
-                progress=None, solve=None) -> tuple[np.ndarray, str]:
+                progress=None, solve=None, reprojected: bool = True) -> tuple[np.ndarray, str]:
     """Refine an aligned pair onto the color image's grid, the method upsampling by :func:`upsampling_grid`'s ``s``.
 
     Parameters
@@ -454,8 +454,10 @@ def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params
     rgb_hr : (H, W, 3) ndarray
         The color image it was aligned to.
     method, params, progress
-        As :func:`depthrefine.refine`; an unsaid ``reprojected`` in ``params``
-        becomes True (:func:`reprojected_params`).
+        As :func:`depthrefine.refine`; with ``reprojected`` (the default: the
+        chain reprojected ``depth_lr``) an unsaid ``reprojected`` in
+        ``params`` becomes True (:func:`reprojected_params`), else ``params``
+        go as they are.
     solve : callable, optional
         ``solve(depth, rgb) -> depth`` in place of ``refine(depth, rgb, method=method, ...)``
         (a warm start over frames: ``depthrefine batch --temporal``); it
@@ -473,7 +475,7 @@ def refine_pair(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, method: str, params
     from ..methods.scale import plan_scale
 
     if solve is None:
-        told = reprojected_params(method, params)
+        told = reprojected_params(method, params) if reprojected else params
 
         def solve(depth, rgb):
             return refine(depth, rgb, method=method, params=told, progress=progress)
