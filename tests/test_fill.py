@@ -51,6 +51,23 @@ def test_a_sliver_needs_one_surface_around_it_and_an_enclosed_pixel_beside_it():
     assert enclosed_holes(crack)[20:80, 50].sum() == 0
 
 
+def test_a_line_the_rays_find_through_a_hole_of_no_one_surface_is_not_enclosed():
+    depth = np.full((60, 400), 320.0, np.float32)            # the rays reach 40 pixels
+    depth[:, :100] = 300.0                                   # a mug's body, left of its handle's loop
+    depth[:, 130:] = 330.0                                   # the handle, right of it
+    depth[12:48, 100:130] = np.nan                           # the loop: the wall behind it, unmeasured
+    depth[30, 104] = 328.0                                   # a speck of the handle's depth inside the loop
+    depth[20:24, 200:206] = np.nan                           # a dropout on the handle
+    enclosed = enclosed_holes(depth)
+    # the loop's four rays span 10 %, but on row 30 the speck stands in for the body: 320-330, one surface;
+    # that line through the loop (unmeasured pixels above and below it) is not enclosed, the dropout still is
+    assert not enclosed[12:48, 100:130].any()
+    assert enclosed[20:24, 200:206].all() and enclosed.sum() == 4 * 6
+    thick = depth.copy()
+    thick[26:35, 104] = 328.0                                # nine specks: a band nine rows thick
+    assert enclosed_holes(thick)[27:34, 110].all()           # wider than a line: its middle stays enclosed
+
+
 def test_the_smooth_fill_spans_a_plane_exactly_and_leaves_unreached_holes():
     rows, cols = np.mgrid[0:40, 0:50].astype(np.float32)
     plane = 500 + 3 * rows - 2 * cols

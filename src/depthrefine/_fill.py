@@ -36,6 +36,9 @@ ENCLOSED_SPREAD = 0.05
 #: A sliver of unmeasured pixels between enclosed ones is enclosed too when every pixel of it has enclosed or
 #: measured pixels within this many pixels each way, spanning at most ``ENCLOSED_SPREAD`` there.
 SLIVER_REACH = 3
+#: An enclosed pixel with unmeasured, not enclosed pixels within this many pixels on two opposite sides lies on a
+#: thin line the rays found through a hole that is not one surface's (the wall seen through a mug's handle): out.
+LINE_REACH = 2
 
 
 def enclosed_holes(depth: np.ndarray) -> np.ndarray:
@@ -47,7 +50,12 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
     surrounds it. A dark drawing on a mug, a dropout on a dark or shiny spot,
     a thin sliver: enclosed. The outside of the Azure Kinect's NFOV hexagon
     (nothing beyond it), a shadow beside a depth jump (near on one side, far
-    on the other), a large unmeasured region: not. A thin group of unmeasured
+    on the other), a large unmeasured region: not. Inside a hole that one
+    surface frames but that is not that surface's (the wall seen through a
+    mug's handle), the rays of a few rows and columns meet only the frame:
+    such lines, at most ``2 * LINE_REACH - 1`` pixels thick between
+    unmeasured pixels that are not enclosed, are not enclosed either
+    (:func:`_without_lines`, last). A thin group of unmeasured
     pixels between enclosed ones that the four rays miss (a ray that meets a
     measured speck inside a wide hole, or reaches just beyond 10 %) is
     enclosed with them when the pixels around it are one surface
@@ -74,7 +82,33 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
         middle = np.median(values, axis=0)
         one_surface = (high - low) <= ENCLOSED_SPREAD * np.abs(middle)
     enclosed = invalid & complete & one_surface
-    return enclosed | _slivers(depth, enclosed, np.where(enclosed, middle, depth))
+    return _without_lines(invalid, enclosed | _slivers(depth, enclosed, np.where(enclosed, middle, depth)))
+
+
+def _without_lines(invalid: np.ndarray, enclosed: np.ndarray) -> np.ndarray:
+    """``enclosed`` without its thin lines through holes that are not enclosed (new array).
+
+    An enclosed pixel goes when unmeasured, not enclosed pixels lie within
+    :data:`LINE_REACH` pixels both above and below it, or both left and
+    right of it; repeated until none goes, so a line up to
+    ``2 * LINE_REACH - 1`` pixels thick goes whole. The rim of an enclosed
+    hole has such pixels on one side only and stays.
+    """
+    rows, cols = invalid.shape
+    reach = LINE_REACH
+    while True:
+        rest = np.pad(invalid & ~enclosed, reach)
+
+        def within(dr: int, dc: int) -> np.ndarray:
+            seen = np.zeros((rows, cols), bool)
+            for k in range(1, reach + 1):
+                seen |= rest[reach + dr * k:reach + dr * k + rows, reach + dc * k:reach + dc * k + cols]
+            return seen
+
+        line = enclosed & ((within(-1, 0) & within(1, 0)) | (within(0, -1) & within(0, 1)))
+        if not line.any():
+            return enclosed
+        enclosed = enclosed & ~line
 
 
 def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np.ndarray:
