@@ -50,6 +50,7 @@ def band_sides(out: np.ndarray, depth_lr: np.ndarray, rgb: np.ndarray, radius: i
     import cv2
 
     from depthrefine._validate import as_depth, check_rgb, guide_uint8
+    from depthrefine.methods.gbp.edges import SNAP_SIGMAS, SNAP_SPAN
     from depthrefine.methods.gbp.measure import measure_input
     from depthrefine.methods.gbp.solve import resize
 
@@ -57,7 +58,7 @@ def band_sides(out: np.ndarray, depth_lr: np.ndarray, rgb: np.ndarray, radius: i
     m = measure_input(as_depth(depth_lr), guide)
     shape = out.shape
     scale = 0.5 * (shape[0] / m.depth.shape[0] + shape[1] / m.depth.shape[1])
-    step = max(8.0 * m.sigma, 0.08 * m.span)
+    step = max(SNAP_SIGMAS * m.sigma, SNAP_SPAN * m.span)     # jump_band's large jump
     band_k, side_k = np.ones((2 * radius + 1,) * 2, np.uint8), np.ones((4 * radius + 1,) * 2, np.uint8)
     spread = cv2.dilate(m.filled, band_k) - cv2.erode(m.filled, band_k)
     band = resize(((spread > step) & (m.jump >= 0.5)).astype(np.uint8), shape, cv2.INTER_NEAREST) > 0
@@ -90,9 +91,10 @@ def geodesic_sides(b: dict) -> np.ndarray:
     import cv2
 
     from depthrefine._geodesic import color_step_costs, nearest_seed
+    from depthrefine.methods.gbp.edges import GUIDE_BLUR, STEP_LEVELS
 
-    color = cv2.GaussianBlur(b["guide"], (0, 0), 1.0).astype(np.float32)
-    source = nearest_seed(*color_step_costs(color, blur=0, step_levels=2.0), b["band"])
+    color = cv2.GaussianBlur(b["guide"], (0, 0), GUIDE_BLUR).astype(np.float32)
+    source = nearest_seed(*color_step_costs(color, blur=0, step_levels=STEP_LEVELS), b["band"])
     low = b["low"]
     return np.where(source >= 0, low.ravel()[np.maximum(source, 0)].reshape(low.shape), low)
 

@@ -96,16 +96,17 @@ def _without_lines(invalid: np.ndarray, enclosed: np.ndarray) -> np.ndarray:
     """
     rows, cols = invalid.shape
     reach = LINE_REACH
+
+    def within(rest: np.ndarray, dr: int, dc: int) -> np.ndarray:
+        # whether ``rest`` (padded by ``reach``) holds a pixel 1 to ``reach`` steps of (dr, dc) away
+        seen = np.zeros((rows, cols), bool)
+        for k in range(1, reach + 1):
+            seen |= rest[reach + dr * k:reach + dr * k + rows, reach + dc * k:reach + dc * k + cols]
+        return seen
+
     while True:
         rest = np.pad(invalid & ~enclosed, reach)
-
-        def within(dr: int, dc: int) -> np.ndarray:
-            seen = np.zeros((rows, cols), bool)
-            for k in range(1, reach + 1):
-                seen |= rest[reach + dr * k:reach + dr * k + rows, reach + dc * k:reach + dc * k + cols]
-            return seen
-
-        line = enclosed & ((within(-1, 0) & within(1, 0)) | (within(0, -1) & within(0, 1)))
+        line = enclosed & ((within(rest, -1, 0) & within(rest, 1, 0)) | (within(rest, 0, -1) & within(rest, 0, 1)))
         if not line.any():
             return enclosed
         enclosed = enclosed & ~line
