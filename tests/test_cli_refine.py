@@ -171,6 +171,22 @@ def test_snap_edges_switch_sets_gbps_parameter(files, tmp_path):
     assert np.any(snapped != expected(SCENE.depth_lr)), "the scene must have a jump that snapping moves"
 
 
+@pytest.mark.parametrize("method", ["gbp", "gbp-fast"])
+def test_sampling_option_sets_the_parameter_and_checks_its_value(files, tmp_path, capsys, method):
+    depth, color = files
+    out = tmp_path / "out.png"
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", method, "--sampling", "point"]) == 0
+    params = METHODS[method].params_type(sampling="point")
+    np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED),
+                                  expected(SCENE.depth_lr, method=method, params=params))
+    capsys.readouterr()
+    bad = tmp_path / "bad.png"
+    assert main(["refine", str(depth), str(color), "-o", str(bad), "--method", method, "--sampling", "points"]) == 2
+    err = capsys.readouterr().err
+    assert "--sampling" in err and "'point'" in err and len(err.strip().splitlines()) == 1
+    assert not bad.exists()
+
+
 def test_snap_edges_with_another_method_is_exit_2(files, tmp_path, capsys):
     depth, color = files
     out = tmp_path / "out.png"

@@ -17,6 +17,7 @@ from depthrefine.evaluate import rmse
 from depthrefine.io import sample_folder
 from depthrefine.methods.gbp import (block_mean_valid, estimate_guide_noise, estimate_noise, footprint_share, guide_trust,
                                     upsample_gbp, upsample_gbp_stateful)
+from depthrefine.methods.gbp.measure import measure_input
 
 from conftest import SHARED_DATA
 
@@ -365,6 +366,32 @@ def test_footprint_share_counts_only_valid_triplets():
     assert footprint_share(half) == 1.0
 
 
+def test_told_point_samples_of_a_smooth_map_the_input_cannot_show():
+    """A map smoothed before it was point-sampled (as the real iPhone frame of ``demo --scene bookshelf``) has
+    mixed pixels at its jumps and measures as footprint means; told ``sampling="point"``, gbp places each sample at
+    its pixel's centre. Measured here (mean RMSE of 6 cases, levels): auto 7.54, point 5.44, bicubic 9.28."""
+    auto, point, bicubic = [], [], []
+    for seed in range(3):
+        for s in (4, 8):
+            scene = make_scene((96, 128), s, n_objects=3, seed=seed, noise_std=0.0)
+            smooth = cv2.GaussianBlur(scene.depth_hr_gt.astype(np.float32), (0, 0), 0.7)
+            depth_lr = np.ascontiguousarray(smooth[s // 2::s, s // 2::s])
+            if seed == 1:
+                assert footprint_share(depth_lr) == 1.0   # the input cannot show its sampling
+            auto.append(rmse(upsample_gbp(depth_lr, scene.rgb_hr), smooth))
+            point.append(rmse(upsample_gbp(depth_lr, scene.rgb_hr, params=GbpParams(sampling="point")), smooth))
+            bicubic.append(rmse(_bicubic(depth_lr, scene.rgb_hr), smooth))
+    assert np.mean(point) < 0.8 * np.mean(auto) and np.mean(point) < 0.7 * np.mean(bicubic), (auto, point, bicubic)
+
+
+def test_sampling_names_the_footprint_the_measures_use(small_scene):
+    depth_lr = small_scene.depth_lr.astype(np.float32)
+    for sampling, footprint in (("point", 0.0), ("mean", 1.0), ("auto", footprint_share(depth_lr))):
+        assert measure_input(depth_lr, small_scene.rgb_hr, sampling=sampling).footprint == footprint
+    told = upsample_gbp(depth_lr, small_scene.rgb_hr, params=GbpParams(sampling="point"))
+    assert not np.array_equal(told, upsample_gbp(depth_lr, small_scene.rgb_hr, params=GbpParams(sampling="mean")))
+
+
 @pytest.mark.parametrize("noise_std", [None, 0.0])
 def test_flat_colored_point_sampled_scenes_with_a_noisy_guide_beat_interpolation(noise_std):
     """The scenes the thesis method was made for: flat colors, depth edges = color edges, point samples.
@@ -384,6 +411,7 @@ def test_flat_colored_point_sampled_scenes_with_a_noisy_guide_beat_interpolation
     ({"trust": 1}, TypeError), ({"sigma_color": 0.0}, ValueError), ({"flat_lambda_lr": float("inf")}, ValueError),
     ({"guide_smoothing": -1.0}, ValueError),
     ({"snap_edges": "yes"}, TypeError), ({"gradient_levels": float("nan")}, ValueError),
+    ({"sampling": "points"}, ValueError), ({"sampling": None}, ValueError),
 ])
 def test_params_are_checked(bad, error):
     with pytest.raises(error):

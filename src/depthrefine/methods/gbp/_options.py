@@ -1,4 +1,4 @@
-"""gbp's command-line options (``--snap-edges``, ``--reprojected``; gbp-fast shares the second: ``_fast_options``).
+"""gbp's command-line options (``--snap-edges``, ``--sampling``, ``--reprojected``; gbp-fast shares the last two).
 
 Its registry entry declares them (``Method.options``); the command line adds
 them to every refining command under "gbp method options". Light: no numpy,
@@ -7,9 +7,23 @@ so that ``--help`` stays fast.
 
 from __future__ import annotations
 
+import argparse
+
 from ..options import MethodOption
 
-__all__ = ["OPTIONS", "REPROJECTED"]
+__all__ = ["OPTIONS", "REPROJECTED", "SAMPLING"]
+
+
+def parse_sampling(text: str) -> str:
+    """``--sampling``'s value: a sampling model of ``GbpParams.sampling`` (``auto``, ``point`` or ``mean``)."""
+    from .measure import check_sampling   # numpy: only when the option is given
+
+    try:
+        check_sampling(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e).replace("sampling must", "must")) from None
+    return text
+
 
 #: ``--reprojected``, shared by gbp and gbp-fast.
 REPROJECTED = MethodOption(
@@ -18,11 +32,19 @@ REPROJECTED = MethodOption(
          "e.g. aligned by the camera's SDK (GbpParams.reprojected): smooth at least as much as lambda_lr = 2, "
          "as its samples sit a fraction of a pixel off; run and batch with a rig set it themselves")
 
+#: ``--sampling``, shared by gbp and gbp-fast.
+SAMPLING = MethodOption(
+    "--sampling", "sampling", type=parse_sampling, metavar="{auto,point,mean}",
+    help="(gbp and gbp-fast) what each depth pixel is (GbpParams.sampling): mean = the mean over its footprint "
+         "(ToF, area downsampling), point = the depth at its centre (every s-th pixel of a map), auto (default) = "
+         "measured from the input, which cannot tell when the map was smooth before it was sampled")
+
 #: gbp's options, in the order ``--help`` lists them.
 OPTIONS = (
     MethodOption("--snap-edges", "snap_edges", switch=True,
                  help="move each large depth jump onto the color edge within two depth pixels (GbpParams.snap_edges): "
                       "for cameras whose depth edges sit off the color edges, such as iPhone LiDAR (sofa outline 6.3 "
                       "-> 1.4 px off); it can follow texture edges, so it is off by default"),
+    SAMPLING,
     REPROJECTED,
 )

@@ -61,7 +61,7 @@ class GbpFastParams:
     """Parameters of ``gbp-fast`` (``method="gbp-fast"``).
 
     ``lambda_lr``, ``sigma_color``, ``flat_lambda_lr``, ``gradient_levels``,
-    ``guide_smoothing`` and ``reprojected`` are gbp's
+    ``guide_smoothing``, ``sampling`` and ``reprojected`` are gbp's
     (:class:`~.params.GbpParams`, same defaults and meaning; with
     ``reprojected`` the work-grid rounds smooth at least as much as
     ``lambda_lr = 2``, the full-resolution solve as without it: raised too,
@@ -93,6 +93,7 @@ class GbpFastParams:
     gradient_levels: float = GbpParams.gradient_levels
     guide_smoothing: float = GbpParams.guide_smoothing
     trust: bool = False
+    sampling: str = GbpParams.sampling
     reprojected: bool | None = GbpParams.reprojected
 
     def __post_init__(self) -> None:
@@ -182,7 +183,7 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
         guide_work = guide
     else:
         guide_work = np.ascontiguousarray(resize(guide, work, cv2.INTER_AREA))       # 2
-    m = measure_input(depth, noise_rows(guide))                                      # 1
+    m = measure_input(depth, noise_rows(guide), sampling=p.sampling)                 # 1
     # 1b: the cheap measure on the work grid first (none where that is the full grid: the same measure twice),
     # then gbp's own, on the full-resolution guide
     if guide_work is guide or not clearly_unfattened(m, guide_work):

@@ -19,8 +19,8 @@ import numpy as np
 from ..._fill import enclosed_holes, fill_invalid_nearest, fill_smooth
 from ..._validate import as_depth
 
-__all__ = ["InputMeasures", "measure_input", "estimate_noise", "estimate_guide_noise", "footprint_share",
-           "near_jump", "noise_levels", "noise_share", "block_mean_valid"]
+__all__ = ["InputMeasures", "measure_input", "check_sampling", "estimate_noise", "estimate_guide_noise",
+           "footprint_share", "near_jump", "noise_levels", "noise_share", "block_mean_valid"]
 
 # ---- the noise estimate (finest diagonal Haar band, clipped RMS)
 #: Band values beyond this many standard deviations are left out (depth edges are not noise).
@@ -49,6 +49,9 @@ MIXED_SIGMAS = 8.0
 MIXED_SPAN = 0.1
 #: A middle pixel is mixed when it is off both sides by more than this many noise sigmas and share of the jump.
 MIXED_APART_SIGMAS, MIXED_APART = 4.0, 0.05
+#: The sampling models a user can name (``GbpParams.sampling``) and the footprint share each stands for;
+#: ``"auto"`` measures it (:func:`footprint_share`).
+SAMPLING_FOOTPRINT = {"auto": None, "point": 0.0, "mean": 1.0}
 #: Fewer jumps than this: too few to tell, the input counts as footprint means.
 MIXED_MIN_JUMPS = 20
 #: The share of mixed middle pixels at which the input counts as point samples (below) or footprint means (above).
@@ -124,7 +127,7 @@ class InputMeasures:
         return jump_band(self)
 
 
-def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: bool = True) -> InputMeasures:
+def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: str = "auto") -> InputMeasures:
     """Measure the input once (step 1).
 
     Parameters
@@ -132,11 +135,13 @@ def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: bool = True
     depth : (h, w) float32 ndarray
         NaN where invalid, at least one valid pixel.
     guide : (H, W, 3) uint8 ndarray
-    sampling : bool
-        Estimate the sampling model (:func:`footprint_share`); ``False``
-        takes footprint means (the check one octave down, whose input is a
-        block mean by construction).
+    sampling : {"auto", "point", "mean"}
+        The sampling model: ``"auto"`` estimates it from the input
+        (:func:`footprint_share`); ``"point"`` takes point samples at the
+        pixels' centres, ``"mean"`` footprint means (the check one octave
+        down, whose input is a block mean by construction).
     """
+    check_sampling(sampling)
     valid = np.isfinite(depth)
     filled = fill_holes(depth, valid)
     span = _span(filled, valid)
@@ -144,8 +149,15 @@ def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: bool = True
     return InputMeasures(
         depth=depth, valid=valid, filled=filled, low=float(filled.min()), high=float(filled.max()), span=span,
         sigma=sigma, sigma_levels=255.0 * sigma / span,
-        footprint=_footprint_share(depth, filled, valid, sigma, span) if sampling else 1.0,
+        footprint=(_footprint_share(depth, filled, valid, sigma, span) if sampling == "auto"
+                   else SAMPLING_FOOTPRINT[sampling]),
         jump=near_jump(filled, sigma, span), guide_noise=estimate_guide_noise(guide))
+
+
+def check_sampling(sampling: object) -> None:
+    """Raise ValueError unless ``sampling`` names a sampling model (:data:`SAMPLING_FOOTPRINT`)."""
+    if sampling not in SAMPLING_FOOTPRINT:
+        raise ValueError(f"sampling must be one of {', '.join(map(repr, SAMPLING_FOOTPRINT))}; got {sampling!r}.")
 
 
 def fill_holes(depth: np.ndarray, valid: np.ndarray) -> np.ndarray:

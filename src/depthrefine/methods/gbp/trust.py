@@ -61,7 +61,8 @@ def guide_trust(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None =
     """
     from .params import GbpParams
 
-    return measured_trust(measure_input(depth, guide), guide, GbpParams() if params is None else params)
+    p = GbpParams() if params is None else params
+    return measured_trust(measure_input(depth, guide, sampling=p.sampling), guide, p)
 
 
 def measured_trust(m: InputMeasures, guide: np.ndarray, p: GbpParams) -> np.ndarray:
@@ -100,7 +101,7 @@ def measured_trust(m: InputMeasures, guide: np.ndarray, p: GbpParams) -> np.ndar
         return trust
     hc, wc = small.shape[0] * 2, small.shape[1] * 2
     guide_lr = np.ascontiguousarray(resize(guide, (h, w), cv2.INTER_AREA)[:hc, :wc])
-    check = measure_input(small, guide_lr, sampling=False)
+    check = measure_input(small, guide_lr, sampling="mean")
     solver = make_solver(guide_lr, check, p, TRUST_GUIDE_NOISE)
     g = flat_blend(back_project(check, solver, p, local_bounds(small, (hc, wc))), check, solver, p)
     b = resize(resize(g, small.shape, cv2.INTER_AREA), (hc, wc), cv2.INTER_CUBIC)

@@ -78,7 +78,7 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     p = GbpParams() if params is None else params
     if not isinstance(p, GbpParams):
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
-    measures = thin_fattened(measure_input(depth, guide), guide)               # 1, 1b
+    measures = thin_fattened(measure_input(depth, guide, sampling=p.sampling), guide)   # 1, 1b
     solver = make_solver(guide, measures, p, solve.GUIDE_NOISE)
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
