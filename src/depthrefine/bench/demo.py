@@ -263,12 +263,13 @@ def bookshelf_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | 
     capture = load_capture("bookshelf")
     refined = _refine(capture.depth, capture.rgb, method, f"demo bookshelf: {method}", progress_bar)
     nearest = refine(capture.depth, capture.rgb, method="nearest")
-    # Self-benchmark: the real depth subsampled 4 times further, refined back to its own grid. Depth pixel (i, j)
-    # keeps pixel (4i + 2, 4j + 2), where the library places a point sample (docs/algorithm.md 6.1); a method
+    # Self-benchmark: the real depth subsampled s times further, refined back to its own grid. Depth pixel (i, j)
+    # keeps pixel (s*i + s//2, s*j + s//2), where the library places a point sample (docs/algorithm.md 6.1); a method
     # that can be told so (gbp, gbp-fast: sampling) is, as the smooth ARKit map hides it from the input.
     real = capture.depth.astype(np.float32)
     h, w = real.shape
-    low = np.ascontiguousarray(capture.depth[SELF_FACTOR // 2::SELF_FACTOR, SELF_FACTOR // 2::SELF_FACTOR])
+    s = SELF_FACTOR
+    low = np.ascontiguousarray(capture.depth[s // 2::s, s // 2::s])
     guide = cv2.resize(capture.rgb, (w, h), interpolation=cv2.INTER_AREA)
     scores = {name: round(rmse(refine(low, guide, method=name, params=point_sampled_params(name)), real), 2)
               for name in ("nearest", "bilinear", method)}
@@ -283,12 +284,14 @@ def bookshelf_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | 
         units="mm", limits=limits, panel_width=6.0)
     record = {"depthrefine": __version__, "scene": "bookshelf", "citation": capture.citation,
               "method": method, "ratio": 7.5,
-              "self_benchmark": {"what": "depth subsampled x4 (64x48, pixel (4i+2, 4j+2)), refined to 256x192 "
-                                         "with the RGB resized to 256x192 (gbp and gbp-fast told sampling = "
-                                         "'point'), RMSE in mm against the real 256x192 depth",
+              "self_benchmark": {"what": f"depth subsampled x{s} ({low.shape[1]}x{low.shape[0]}, pixel "
+                                         f"({s}i+{s // 2}, {s}j+{s // 2})), refined to {w}x{h} with the RGB "
+                                         f"resized to {w}x{h} (gbp and gbp-fast told sampling = 'point'), RMSE in "
+                                         f"mm against the real {w}x{h} depth",
                                  "rmse_mm": scores}}
     lines = [f"iPhone LiDAR bookshelf: 256x192 depth refined x7.5 to 1920x1440 with {method}",
-             "  self-benchmark (point samples x4 further down, refined back up), RMSE against the real depth in mm: "
+             f"  self-benchmark (point samples x{s} further down, refined back up, gbp and gbp-fast told "
+             "--sampling point), RMSE against the real depth in mm: "
              + ", ".join(f"{k} {v:.1f}" for k, v in scores.items()),
              "wrote demo_figure.png, refined.png (uint16 mm), refined_blended.png, demo.json"]
     return DemoOutput(figures={"demo_figure.png": figure, "refined_blended.png": blended},

@@ -11,17 +11,29 @@ import argparse
 
 from ..options import MethodOption
 
-__all__ = ["OPTIONS", "REPROJECTED", "SAMPLING"]
+__all__ = ["OPTIONS", "REPROJECTED", "SAMPLING", "SAMPLING_MODELS", "check_sampling"]
+
+#: The sampling models ``GbpParams.sampling`` names (``measure.SAMPLING_FOOTPRINT`` says what each stands for).
+SAMPLING_MODELS = ("auto", "point", "mean")
+
+
+def _sampling_error(value: object) -> str | None:
+    """What is wrong with ``value`` as a sampling model, or None."""
+    if isinstance(value, str) and value in SAMPLING_MODELS:
+        return None
+    return f"must be one of {', '.join(map(repr, SAMPLING_MODELS))}; got {value!r}"
+
+
+def check_sampling(value: object) -> None:
+    """Raise ValueError unless ``value`` is one of :data:`SAMPLING_MODELS`."""
+    if (error := _sampling_error(value)) is not None:
+        raise ValueError(f"sampling {error}.")
 
 
 def parse_sampling(text: str) -> str:
-    """``--sampling``'s value: a sampling model of ``GbpParams.sampling`` (``auto``, ``point`` or ``mean``)."""
-    from .measure import check_sampling   # numpy: only when the option is given
-
-    try:
-        check_sampling(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e).replace("sampling must", "must")) from None
+    """``--sampling``'s value: one of :data:`SAMPLING_MODELS`."""
+    if (error := _sampling_error(text)) is not None:
+        raise argparse.ArgumentTypeError(error + ".")
     return text
 
 
@@ -36,8 +48,9 @@ REPROJECTED = MethodOption(
 SAMPLING = MethodOption(
     "--sampling", "sampling", type=parse_sampling, metavar="{auto,point,mean}",
     help="(gbp and gbp-fast) what each depth pixel is (GbpParams.sampling): mean = the mean over its footprint "
-         "(ToF, area downsampling), point = the depth at its centre (every s-th pixel of a map), auto (default) = "
-         "measured from the input, which cannot tell when the map was smooth before it was sampled")
+         "(ToF, area downsampling), point = the depth at its block's centre (depth[s//2::s, s//2::s] of a map; "
+         "samples taken elsewhere, such as depth[::s, ::s], do worse than auto), auto (default) = measured from "
+         "the input, which cannot tell when the map was smooth before it was sampled")
 
 #: gbp's options, in the order ``--help`` lists them.
 OPTIONS = (

@@ -155,7 +155,7 @@ def noise_rows(guide: np.ndarray) -> np.ndarray:
 def restore_smooth_surfaces(x: np.ndarray, m: InputMeasures) -> None:
     """Add back to ``x``, in place, the input's residual ``y - D(x)`` where the input is smooth and noise-free.
 
-    The residual (zero at invalid input pixels) is weighed by one minus the
+    The residual (zero at invalid input pixels) is weighted by one minus the
     jump map (:func:`~.measure.near_jump`: the edges stay as the solve put
     them) and by one minus the input's noise share measured blind to
     curvature (:func:`~.measure.noise_levels`: noise is not put back), and

@@ -18,8 +18,9 @@ import numpy as np
 
 from ..._fill import enclosed_holes, fill_invalid_nearest, fill_smooth
 from ..._validate import as_depth
+from ._options import check_sampling
 
-__all__ = ["InputMeasures", "measure_input", "check_sampling", "estimate_noise", "estimate_guide_noise",
+__all__ = ["InputMeasures", "measure_input", "estimate_noise", "estimate_guide_noise",
            "footprint_share", "near_jump", "noise_levels", "noise_share", "block_mean_valid"]
 
 # ---- the noise estimate (finest diagonal Haar band, clipped RMS)
@@ -49,9 +50,6 @@ MIXED_SIGMAS = 8.0
 MIXED_SPAN = 0.1
 #: A middle pixel is mixed when it is off both sides by more than this many noise sigmas and share of the jump.
 MIXED_APART_SIGMAS, MIXED_APART = 4.0, 0.05
-#: The sampling models a user can name (``GbpParams.sampling``) and the footprint share each stands for;
-#: ``"auto"`` measures it (:func:`footprint_share`).
-SAMPLING_FOOTPRINT = {"auto": None, "point": 0.0, "mean": 1.0}
 #: Fewer jumps than this: too few to tell, the input counts as footprint means.
 MIXED_MIN_JUMPS = 20
 #: The share of mixed middle pixels at which the input counts as point samples (below) or footprint means (above).
@@ -127,6 +125,11 @@ class InputMeasures:
         return jump_band(self)
 
 
+#: The footprint share each sampling model a user can name (``GbpParams.sampling``) stands for; ``"auto"``
+#: measures it (:func:`footprint_share`).
+SAMPLING_FOOTPRINT = {"point": 0.0, "mean": 1.0}
+
+
 def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: str = "auto") -> InputMeasures:
     """Measure the input once (step 1).
 
@@ -152,12 +155,6 @@ def measure_input(depth: np.ndarray, guide: np.ndarray, *, sampling: str = "auto
         footprint=(_footprint_share(depth, filled, valid, sigma, span) if sampling == "auto"
                    else SAMPLING_FOOTPRINT[sampling]),
         jump=near_jump(filled, sigma, span), guide_noise=estimate_guide_noise(guide))
-
-
-def check_sampling(sampling: object) -> None:
-    """Raise ValueError unless ``sampling`` names a sampling model (:data:`SAMPLING_FOOTPRINT`)."""
-    if sampling not in SAMPLING_FOOTPRINT:
-        raise ValueError(f"sampling must be one of {', '.join(map(repr, SAMPLING_FOOTPRINT))}; got {sampling!r}.")
 
 
 def fill_holes(depth: np.ndarray, valid: np.ndarray) -> np.ndarray:
