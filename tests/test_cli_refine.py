@@ -188,6 +188,18 @@ def test_sampling_option_sets_the_parameter_and_checks_its_value(files, tmp_path
     assert not bad.exists()
 
 
+def test_an_option_two_methods_share_names_both_with_another_method(files, tmp_path, capsys):
+    depth, color = files
+    out = tmp_path / "out.png"
+    argv = ["refine", str(depth), str(color), "-o", str(out), "--method", "bicubic", "--sampling", "mean",
+            "--reprojected"]
+    assert main(argv) == 2
+    assert capsys.readouterr().err.strip().endswith(
+        "--sampling and --reprojected set parameters of the gbp and gbp-fast methods; the method is 'bicubic': "
+        "add --method gbp (or gbp-fast).")
+    assert not out.exists()
+
+
 def test_snap_edges_with_another_method_is_exit_2(files, tmp_path, capsys):
     depth, color = files
     out = tmp_path / "out.png"

@@ -222,23 +222,22 @@ def build_params(args: argparse.Namespace, *, method: str | None = None,
     entry = get_method(args.method if method is None else method)
     own = {option.flag: option for option in entry.options}
     given: dict[str, tuple[Any, Any]] = {}  # flag -> (the chosen method's option, parsed value)
-    foreign: dict[str, list[str]] = {}      # another method -> its options given
-    seen: set[str] = set()
+    owners: dict[str, list[str]] = {}       # each option given that the method lacks -> the methods that have it
     for owner in METHODS.values():
         for option in owner.options:
-            value = getattr(args, option.dest, None)
-            if value is None or option.flag in seen:
+            if getattr(args, option.dest, None) is None:
                 continue
-            seen.add(option.flag)
             if option.flag in own:
-                given[option.flag] = (own[option.flag], value)
+                given[option.flag] = (own[option.flag], getattr(args, option.dest))
             else:
-                foreign.setdefault(owner.name, []).append(option.flag)
-    if foreign:
-        owner_name, flags = next(iter(foreign.items()))
-        raise ValueError(f"{' and '.join(flags)} set{'s' if len(flags) == 1 else ''} parameters of the {owner_name} "
-                         f"method; the method is {entry.name!r}: add {getattr(args, 'method_flag', '--method')} "
-                         f"{owner_name}.")
+                owners.setdefault(option.flag, []).append(owner.name)
+    if owners:
+        names = next(iter(owners.values()))
+        flags = [flag for flag, its in owners.items() if its == names]
+        others = f" (or {', '.join(names[1:])})" if len(names) > 1 else ""
+        raise ValueError(f"{' and '.join(flags)} set{'s' if len(flags) == 1 else ''} parameters of the "
+                         f"{' and '.join(names)} method{'s' if len(names) > 1 else ''}; the method is {entry.name!r}: "
+                         f"add {getattr(args, 'method_flag', '--method')} {names[0]}{others}.")
     overrides: dict[str, Any] = dict(base or {})
     if args.params:
         overrides.update(read_mapping(args.params, what="parameter"))
