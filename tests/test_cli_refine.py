@@ -188,24 +188,18 @@ def test_sampling_option_sets_the_parameter_and_checks_its_value(files, tmp_path
     assert not bad.exists()
 
 
-def test_an_option_two_methods_share_names_both_with_another_method(files, tmp_path, capsys):
+@pytest.mark.parametrize("options, message", [
+    (["--snap-edges"], "--snap-edges sets parameters of the gbp method; the method is 'bicubic': add --method gbp."),
+    (["--sampling", "mean", "--reprojected"],   # options gbp and gbp-fast share: both named
+     "--sampling and --reprojected set parameters of the gbp and gbp-fast methods; the method is 'bicubic': "
+     "add --method gbp (or gbp-fast)."),
+])
+def test_gbp_options_with_another_method_are_exit_2(files, tmp_path, capsys, options, message):
     depth, color = files
     out = tmp_path / "out.png"
-    argv = ["refine", str(depth), str(color), "-o", str(out), "--method", "bicubic", "--sampling", "mean",
-            "--reprojected"]
-    assert main(argv) == 2
-    assert capsys.readouterr().err.strip().endswith(
-        "--sampling and --reprojected set parameters of the gbp and gbp-fast methods; the method is 'bicubic': "
-        "add --method gbp (or gbp-fast).")
-    assert not out.exists()
-
-
-def test_snap_edges_with_another_method_is_exit_2(files, tmp_path, capsys):
-    depth, color = files
-    out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "bicubic", "--snap-edges"]) == 2
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", "bicubic", *options]) == 2
     err = capsys.readouterr().err
-    assert "--snap-edges" in err and "--method gbp" in err and len(err.strip().splitlines()) == 1
+    assert err.strip().endswith(message) and len(err.strip().splitlines()) == 1
     assert not out.exists()
 
 
