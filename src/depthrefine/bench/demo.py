@@ -243,14 +243,10 @@ def point_sampled_params(method: str):
     >>> point_sampled_params("gbp").sampling, point_sampled_params("bilinear")
     ('point', None)
     """
-    import dataclasses
-
     from ..methods.registry import get_method
 
-    kind = get_method(method).params_type
-    if kind is None or "sampling" not in {f.name for f in dataclasses.fields(kind)}:
-        return None
-    return kind(sampling="point")
+    entry = get_method(method)
+    return entry.params_type(sampling="point") if entry.has_param("sampling") else None
 
 
 def bookshelf_demo(*, method: str = DEFAULT_METHOD, progress_bar: ProgressBar | None = None) -> DemoOutput:

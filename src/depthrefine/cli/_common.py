@@ -225,10 +225,11 @@ def build_params(args: argparse.Namespace, *, method: str | None = None,
     owners: dict[str, list[str]] = {}       # each option given that the method lacks -> the methods that have it
     for owner in METHODS.values():
         for option in owner.options:
-            if getattr(args, option.dest, None) is None:
+            value = getattr(args, option.dest, None)
+            if value is None:
                 continue
             if option.flag in own:
-                given[option.flag] = (own[option.flag], getattr(args, option.dest))
+                given[option.flag] = (own[option.flag], value)
             else:
                 owners.setdefault(option.flag, []).append(owner.name)
     if owners:

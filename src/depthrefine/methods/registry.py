@@ -111,6 +111,15 @@ class Method:
         """The method's default parameters (``None`` if it has none)."""
         return None if self.params_type is None else self.params_type()
 
+    def has_param(self, name: str) -> bool:
+        """Whether the method's parameters have a field ``name`` (``"reprojected"``, ``"sampling"``)."""
+        return name in _param_names(self.params_type)
+
+
+def _param_names(params_type: type | None) -> set[str]:
+    """The field names of a method's parameter dataclass (none without one)."""
+    return set() if params_type is None else {f.name for f in dataclasses.fields(params_type)}
+
 
 METHODS: dict[str, Method] = {}
 
@@ -142,7 +151,7 @@ def register_method(
         raise ValueError(f"a method named {name!r} is already registered; pass replace=True to replace it.")
     options = tuple(options)
     if options:
-        fields = set() if params_type is None else {f.name for f in dataclasses.fields(params_type)}
+        fields = _param_names(params_type)
         stray = [option.flag for option in options if not isinstance(option, MethodOption) or option.param not in fields]
         if stray:
             raise ValueError(f"method {name!r}: the options {stray} must be MethodOption instances setting fields of "

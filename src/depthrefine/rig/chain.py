@@ -433,9 +433,10 @@ def reprojected_params(method, params=None):
 
     from ..methods.registry import get_method
 
-    kind = (get_method(method) if isinstance(method, str) else method).params_type
-    if kind is None or "reprojected" not in {f.name for f in dataclasses.fields(kind)}:
+    entry = get_method(method) if isinstance(method, str) else method
+    if not entry.has_param("reprojected"):
         return params
+    kind = entry.params_type
     if params is None:
         return kind(reprojected=True)
     if not isinstance(params, kind) or params.reprojected is not None:

@@ -118,6 +118,12 @@ class InputMeasures:
         return cv2.erode(self.filled, kernel), cv2.dilate(self.filled, kernel)
 
     @functools.cached_property
+    def curvature_blind_noise(self) -> float:
+        """The noise in levels of the depth range, blind to smooth curvature (:func:`noise_levels`; steps 5 and
+        gbp-fast's residual)."""
+        return _curvature_blind_noise(self)
+
+    @functools.cached_property
     def large_jumps(self) -> np.ndarray:
         """The input pixels near a large depth jump, (h, w) bool (:func:`~.edges.jump_band`; steps 1b and 6)."""
         from .edges import jump_band
@@ -266,8 +272,14 @@ def noise_levels(m: InputMeasures) -> float:
     along rows and columns (unit noise gain), zero on any surface cubic in
     each direction, where :func:`estimate_noise`'s Haar band sees a curved
     surface's twist as noise; clipped RMS as there. It decides how far the
-    fallback is denoised (step 5).
+    fallback is denoised (step 5) and whether gbp-fast puts the input's
+    residual back. Measured once per ``m`` (:attr:`InputMeasures.curvature_blind_noise`).
     """
+    return m.curvature_blind_noise
+
+
+def _curvature_blind_noise(m: InputMeasures) -> float:
+    """:func:`noise_levels`, measured."""
     import cv2
 
     band = cv2.filter2D(m.filled.astype(np.float32), -1, FOURTH_ORDER, borderType=cv2.BORDER_REFLECT)[2:-2, 2:-2]
