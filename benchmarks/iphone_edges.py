@@ -3,7 +3,8 @@
 The shipped capture (``depthrefine.io.load_capture("bookshelf")``: 256x192
 ARKit depth in mm, its 1920x1440 RGB frame; ratio 7.5) is refined with
 bicubic, the default method and the default method with ``--snap-edges``
-(``GbpParams(snap_edges=True)``). For each result it prints
+(``GbpParams(snap_edges=True)``); ``--methods gbp,gbp-fast`` adds gbp-fast with
+and without ``--snap-edges``. For each result it prints
 :func:`depthrefine.rig.edges.edge_overlap` at three near / far thresholds
 (the outline of the pixels nearer than ``near`` next to pixels farther than
 ``far``: the sofa and the shelves' fronts against the wall; the median
@@ -16,17 +17,23 @@ depth's edges (a 3x3 depth range over ``EDGE_MM``) in red, one row per
 result::
 
     PYTHONPATH=src python benchmarks/iphone_edges.py --figure docs/iphone_edges.jpg
+    PYTHONPATH=src python benchmarks/iphone_edges.py --methods gbp,gbp-fast
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
+import statistics
 import sys
+import time
+from typing import Callable
 
 import numpy as np
 
 import depthrefine
 from depthrefine.io import load_capture
+from depthrefine.methods.registry import DEFAULT_METHOD
 from depthrefine.rig.edges import edge_overlap
 
 #: (near, far) thresholds in mm: the sofa (about 2 m) and the shelves' fronts against the back wall.
@@ -37,12 +44,33 @@ ZOOM = (300, 700, 0, 720)
 EDGE_MM = 150.0
 
 
-def results(depth: np.ndarray, rgb: np.ndarray) -> dict[str, np.ndarray]:
-    """Bicubic, the default method and the default method with snapped edges, on the color grid."""
-    default = depthrefine.DEFAULT_METHOD
-    return {"bicubic": depthrefine.refine(depth, rgb, method="bicubic"),
-            default: depthrefine.refine(depth, rgb),
-            f"{default} --snap-edges": depthrefine.refine(depth, rgb, params=depthrefine.GbpParams(snap_edges=True))}
+def refiners(methods: tuple[str, ...] = (DEFAULT_METHOD,)) -> dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
+    """Bicubic, then each of ``methods`` (gbp or gbp-fast) without and with snapped edges: name -> refine call."""
+    from depthrefine.methods.registry import get_method
+
+    calls = {"bicubic": functools.partial(depthrefine.refine, method="bicubic")}
+    for method in methods:
+        snapped = get_method(method).params_type(snap_edges=True)
+        calls[method] = functools.partial(depthrefine.refine, method=method)
+        calls[f"{method} --snap-edges"] = functools.partial(depthrefine.refine, method=method, params=snapped)
+    return calls
+
+
+def median_times(calls: dict, depth: np.ndarray, rgb: np.ndarray, repeats: int) -> tuple[dict[str, float], float]:
+    """Median wall seconds of each call and of OpenCV's fast global smoother (``bench_speed.fgs_peer``), alternated."""
+    from bench_speed import fgs_peer
+
+    times: dict[str, list[float]] = {name: [] for name in calls}
+    peer: list[float] = []
+    for _ in range(repeats):
+        for name, call in calls.items():
+            t0 = time.perf_counter()
+            call(depth, rgb)
+            times[name].append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        fgs_peer(depth, rgb)
+        peer.append(time.perf_counter() - t0)
+    return {name: statistics.median(v) for name, v in times.items()}, statistics.median(peer)
 
 
 def figure(rgb: np.ndarray, refined: dict[str, np.ndarray], path: str) -> None:
@@ -65,18 +93,27 @@ def figure(rgb: np.ndarray, refined: dict[str, np.ndarray], path: str) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--methods", default=DEFAULT_METHOD, metavar="A,B",
+                    help="methods with a snap_edges knob, each without and with it (default: %(default)s)")
+    ap.add_argument("--repeats", type=int, default=0, metavar="N",
+                    help="also time each result N times, alternated with OpenCV's FGS (median ms and ratio)")
     ap.add_argument("--figure", metavar="FILE", help="also write the zoomed outlines to this picture (.jpg, .png)")
     args = ap.parse_args(argv)
     capture = load_capture("bookshelf")
-    refined = results(capture.depth, capture.rgb)
-    print("median distance of the near outline to the color edges, px (share within 2 px; outline pixels)")
-    print("| | " + " | ".join(f"{near} / {far} mm" for near, far in THRESHOLDS) + " |")
-    print("|---|" + "---|" * len(THRESHOLDS))
+    calls = refiners(tuple(args.methods.split(",")))
+    refined = {name: call(capture.depth, capture.rgb) for name, call in calls.items()}
+    times, peer = median_times(calls, capture.depth, capture.rgb, args.repeats) if args.repeats > 0 else ({}, 0.0)
+    print("median distance of the near outline to the color edges, px (share within 2 px; outline pixels)"
+          + (f"; median ms of {args.repeats} calls (x FGS's {1000 * peer:.0f} ms, alternated)" if times else ""))
+    print("| | " + " | ".join(f"{near} / {far} mm" for near, far in THRESHOLDS) + (" | ms |" if times else " |"))
+    print("|---|" + "---|" * (len(THRESHOLDS) + bool(times)))
     for name, depth in refined.items():
         cells = []
         for near, far in THRESHOLDS:
             overlap = edge_overlap(depth, capture.rgb, near=near, far=far)
             cells.append(f"{overlap.median_px:.2f} ({overlap.fraction:.0%}; {overlap.pixels})")
+        if times:
+            cells.append(f"{1000 * times[name]:.0f} ({times[name] / peer:.1f}x)")
         print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
     if args.figure:
         figure(capture.rgb, refined, args.figure)

@@ -160,15 +160,14 @@ def test_options_override_the_params_file(files, tmp_path):
                                   expected(SCENE.depth_lr, method="thesis", params=ThesisParams(n_clusters=2)))
 
 
-def test_snap_edges_switch_sets_gbps_parameter(files, tmp_path):
-    from depthrefine.methods.gbp import GbpParams
-
+@pytest.mark.parametrize("method", ["gbp", "gbp-fast"])
+def test_snap_edges_switch_sets_the_parameter(files, tmp_path, method):
     depth, color = files
     out = tmp_path / "out.png"
-    assert main(["refine", str(depth), str(color), "-o", str(out), "--snap-edges"]) == 0
-    snapped = expected(SCENE.depth_lr, params=GbpParams(snap_edges=True))
+    assert main(["refine", str(depth), str(color), "-o", str(out), "--method", method, "--snap-edges"]) == 0
+    snapped = expected(SCENE.depth_lr, method=method, params=METHODS[method].params_type(snap_edges=True))
     np.testing.assert_array_equal(cv2.imread(str(out), cv2.IMREAD_UNCHANGED), snapped)
-    assert np.any(snapped != expected(SCENE.depth_lr)), "the scene must have a jump that snapping moves"
+    assert np.any(snapped != expected(SCENE.depth_lr, method=method)), "the scene must have a jump that snapping moves"
 
 
 @pytest.mark.parametrize("method", ["gbp", "gbp-fast"])
@@ -189,7 +188,8 @@ def test_sampling_option_sets_the_parameter_and_checks_its_value(files, tmp_path
 
 
 @pytest.mark.parametrize("options, message", [
-    (["--snap-edges"], "--snap-edges sets parameters of the gbp method; the method is 'bicubic': add --method gbp."),
+    (["--snap-edges"], "--snap-edges sets parameters of the gbp and gbp-fast methods; the method is 'bicubic': "
+     "add --method gbp (or gbp-fast)."),
     (["--sampling", "mean", "--reprojected"],   # options gbp and gbp-fast share: both named
      "--sampling and --reprojected set parameters of the gbp and gbp-fast methods; the method is 'bicubic': "
      "add --method gbp (or gbp-fast)."),

@@ -598,23 +598,24 @@ def test_a_depth_step_the_guide_does_not_show_stays_sharp():
     assert np.diff(with_gradients[:, 26:34], axis=1).max() > 0.5 * 60
 
 
-def test_snap_edges_moves_a_fattened_jump_onto_the_color_edge():
+@pytest.mark.parametrize("method", ["gbp", "gbp-fast"])
+def test_snap_edges_moves_a_fattened_jump_onto_the_color_edge(method):
     """A near surface (40) spilling 6 px over a far one (200), as a direct-ToF pixel reports it; the color edge is
     at column 29: with ``snap_edges`` the output's jump lands on it in every row, without it stays where the input
-    put it; on a guide without an edge nothing moves."""
+    put it; on a guide without an edge nothing moves. gbp-fast (``GbpFastParams.snap_edges``) as gbp."""
     rows, cols, s, edge_col = 48, 64, 4, 29
     rgb = np.zeros((rows, cols, 3), np.uint8)
     rgb[:, edge_col:] = 255
     fattened = np.where(np.arange(cols)[None, :] < edge_col + 6, 40.0, 200.0).repeat(rows, axis=0).astype(np.float32)
     depth_lr = _area(fattened, s)
-    plain = upsample_gbp(depth_lr, rgb)
-    snapped = upsample_gbp(depth_lr, rgb, params=GbpParams(snap_edges=True))
+    params_type = depthrefine.methods.get_method(method).params_type
+    refine = lambda guide, **knobs: depthrefine.refine(depth_lr, guide, method=method, params=params_type(**knobs))
+    plain, snapped = refine(rgb), refine(rgb, snap_edges=True)
     crossing = lambda out: (out < 120).sum(axis=1)            # columns on the near side, per row
     assert (crossing(plain) >= edge_col + 3).all()             # the input's displaced jump
     assert (np.abs(crossing(snapped) - edge_col) <= 1).all()   # on the color edge
     flat = np.full_like(rgb, 128)
-    np.testing.assert_array_equal(upsample_gbp(depth_lr, flat, params=GbpParams(snap_edges=True)),
-                                  upsample_gbp(depth_lr, flat))
+    np.testing.assert_array_equal(refine(flat, snap_edges=True), refine(flat))
 
 
 def misplaced_samples(seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -94,7 +94,25 @@ def color_step_costs(color: np.ndarray, *, blur: float, step_levels: float) -> t
     c = np.asarray(color, np.float32)
     if blur > 0:
         c = cv2.GaussianBlur(c, (0, 0), blur)
-    cost_x = np.sqrt(np.sum(np.square(c[:, 1:] - c[:, :-1]), axis=2)) + np.float32(step_levels)
-    cost_y = np.sqrt(np.sum(np.square(c[1:] - c[:-1]), axis=2)) + np.float32(step_levels)
-    return (np.pad(cost_x, ((0, 0), (0, 1))).astype(np.float32, copy=False),
-            np.pad(cost_y, ((0, 1), (0, 0))).astype(np.float32, copy=False))
+    rows, cols = c.shape[:2]
+    planes = cv2.split(c)        # contiguous channels: the differences below run along rows
+    cost_x = np.zeros((rows, cols), np.float32)
+    cost_y = np.zeros((rows, cols), np.float32)
+    _squared_distance([p[:, 1:] for p in planes], [p[:, :-1] for p in planes], cost_x[:, :-1])
+    _squared_distance([p[1:] for p in planes], [p[:-1] for p in planes], cost_y[:-1])
+    for cost in (cost_x[:, :-1], cost_y[:-1]):
+        np.sqrt(cost, out=cost)
+        cost += np.float32(step_levels)
+    return cost_x, cost_y
+
+
+def _squared_distance(a: list[np.ndarray], b: list[np.ndarray], out: np.ndarray) -> None:
+    """``out = sum over the channels of (a - b)**2``, channel by channel in order (the bits of ``np.sum(axis=2)``)."""
+    diff = np.empty(out.shape, np.float32)
+    for channel, (plane_a, plane_b) in enumerate(zip(a, b)):
+        np.subtract(plane_a, plane_b, out=diff)
+        np.multiply(diff, diff, out=diff)
+        if channel == 0:
+            out[...] = diff
+        else:
+            out += diff

@@ -1,4 +1,4 @@
-"""gbp's command-line options (``--snap-edges``, ``--sampling``, ``--reprojected``; gbp-fast shares the last two).
+"""gbp's command-line options (``--snap-edges``, ``--sampling``, ``--reprojected``; gbp-fast shares all three).
 
 Its registry entry declares them (``Method.options``); the command line adds
 them to every refining command under "gbp method options". Light: no numpy,
@@ -11,7 +11,7 @@ import argparse
 
 from ..options import MethodOption
 
-__all__ = ["OPTIONS", "REPROJECTED", "SAMPLING", "SAMPLING_MODELS", "check_sampling"]
+__all__ = ["OPTIONS", "REPROJECTED", "SAMPLING", "SNAP_EDGES", "SAMPLING_MODELS", "check_sampling"]
 
 #: The sampling models ``GbpParams.sampling`` names (``measure.SAMPLING_FOOTPRINT`` says what each stands for).
 SAMPLING_MODELS = ("auto", "point", "mean")
@@ -52,12 +52,12 @@ SAMPLING = MethodOption(
          "samples taken elsewhere, such as depth[::s, ::s], do worse than auto), auto (default) = measured from "
          "the input, which cannot tell when the map was smooth before it was sampled")
 
+#: ``--snap-edges``, shared by gbp and gbp-fast.
+SNAP_EDGES = MethodOption(
+    "--snap-edges", "snap_edges", switch=True,
+    help="(gbp and gbp-fast) move each large depth jump onto the color edge within two depth pixels "
+         "(GbpParams.snap_edges): for cameras whose depth edges sit off the color edges, such as iPhone LiDAR "
+         "(sofa outline 6.3 -> 1.4 px off); it can follow texture edges, so it is off by default")
+
 #: gbp's options, in the order ``--help`` lists them.
-OPTIONS = (
-    MethodOption("--snap-edges", "snap_edges", switch=True,
-                 help="move each large depth jump onto the color edge within two depth pixels (GbpParams.snap_edges): "
-                      "for cameras whose depth edges sit off the color edges, such as iPhone LiDAR (sofa outline 6.3 "
-                      "-> 1.4 px off); it can follow texture edges, so it is off by default"),
-    SAMPLING,
-    REPROJECTED,
-)
+OPTIONS = (SNAP_EDGES, SAMPLING, REPROJECTED)

@@ -21,7 +21,10 @@ gbp's own steps on a reduced grid, then one edge-aware solve at full resolution:
    about ``lam`` times its Laplacian (a wave's crests, a floor's crease into
    a wall); away from the input's jumps and on an input without noise, the
    input's residual against the result's reduction is enlarged and added
-   back (:func:`restore_smooth_surfaces`).
+   back (:func:`restore_smooth_surfaces`);
+5. with ``snap_edges`` (off by default), gbp's step 6 (:func:`~.edges.snap_edges`)
+   on the full-resolution guide: each large depth jump moves onto the color
+   edge within two depth pixels.
 
 Where gbp solves eight times at full resolution, this solves twice on a grid
 of a quarter (or less) of the pixels and once, one iteration, at full
@@ -38,6 +41,7 @@ from typing import Callable
 import numpy as np
 
 from ..._validate import as_depth, check_int, check_number, check_rgb, guide_uint8
+from .edges import snap_edges
 from .fattening import clearly_unfattened, thin_fattened
 from .measure import InputMeasures, measure_input, noise_levels, noise_share
 from .params import GbpParams
@@ -66,7 +70,7 @@ class GbpFastParams:
     """Parameters of ``gbp-fast`` (``method="gbp-fast"``).
 
     ``lambda_lr``, ``sigma_color``, ``flat_lambda_lr``, ``gradient_levels``,
-    ``guide_smoothing``, ``sampling`` and ``reprojected`` are gbp's
+    ``guide_smoothing``, ``snap_edges``, ``sampling`` and ``reprojected`` are gbp's
     (:class:`~.params.GbpParams`, same defaults and meaning; with
     ``reprojected`` the work-grid rounds smooth at least as much as
     ``lambda_lr = 2``, the full-resolution solve as without it: raised too,
@@ -98,6 +102,7 @@ class GbpFastParams:
     gradient_levels: float = GbpParams.gradient_levels
     guide_smoothing: float = GbpParams.guide_smoothing
     trust: bool = False
+    snap_edges: bool = GbpParams.snap_edges
     sampling: str = GbpParams.sampling
     reprojected: bool | None = GbpParams.reprojected
 
@@ -224,8 +229,8 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
     x = flat_blend(x, m, solver, g)
     clip_to_bounds(x, bounds)
     step(p.rounds + 1)
+    s = 0.5 * (shape[0] / depth.shape[0] + shape[1] / depth.shape[1])
     if work != shape:                                                                # 4
-        s = 0.5 * (shape[0] / depth.shape[0] + shape[1] / depth.shape[1])
         x = resize(x, shape, cv2.INTER_CUBIC)
         sigma_color = max(p.sigma_color, GUIDE_NOISE * m.guide_noise)
         lam = FINAL_LAMBDA * p.lambda_lr * s * s   # not raised on a reprojected input: it smeared real rims
@@ -236,7 +241,9 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
             x = _wls.smooth(x, *_wls.color_weights(guide, sigma_color), lam, iterations=FINAL_ITERATIONS)
         restore_smooth_surfaces(x, m)
         np.clip(x, m.low, m.high, out=x)
-    if p.trust:                                                                      # 5
+    if p.trust:                                                                      # 3 (gbp's step 5)
         x = blend_fallback(x, measured_trust(m, guide_work, g), m)
+    if p.snap_edges:                                                                 # 5
+        x = snap_edges(x, m, guide, s)
     step(total)
     return x.astype(np.float32, copy=False)
