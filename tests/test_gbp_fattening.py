@@ -125,3 +125,49 @@ def test_gbp_fast_thins_as_gbp_measures(scene, monkeypatch):
     monkeypatch.setattr(fattening, "FATTEN_MIN", np.inf)           # the same call without step 1b
     kept = upsample_gbp_fast(fattened_lr, scene.rgb_hr)
     assert _rmse(thinned, scene.depth_hr_gt) < 0.6 * _rmse(kept, scene.depth_hr_gt)
+
+
+def _shifted(depth_hr: np.ndarray, s: int, dy: int, dx: int) -> np.ndarray:
+    """A reprojected input whose calibration is off: the truth moved by (dy, dx) color pixels, then block means."""
+    import cv2
+
+    move = np.float32([[1, 0, dx], [0, 1, dy]])
+    moved = cv2.warpAffine(depth_hr, move, depth_hr.shape[::-1], flags=cv2.INTER_NEAREST,
+                           borderMode=cv2.BORDER_REPLICATE)
+    return _footprint_means(moved, s)
+
+
+@pytest.mark.parametrize("dy, dx", [(2, 0), (-1, 2), (0, -3)])
+def test_a_shift_is_measured_along_both_axes(scene, dy, dx):
+    """Edges facing every direction, the whole map off by (dy, dx) color pixels: ``edge_shift`` reads it in depth
+    pixels within 0.15, and no fattening (the shift cancels there)."""
+    from depthrefine.methods.gbp.fattening import edge_shift
+
+    depth_lr = _shifted(scene.depth_hr_gt, SCALE, dy, dx)
+    m = measure_input(as_depth(depth_lr), scene.rgb_hr)
+    measured = edge_shift(m, scene.rgb_hr)
+    assert np.allclose(measured, (dy / SCALE, dx / SCALE), atol=0.15), measured
+    assert abs(edge_offset(m, scene.rgb_hr)) < FATTEN_MIN
+
+
+def test_a_reprojected_inputs_shift_is_undone_and_a_registered_one_is_not_moved(scene, monkeypatch):
+    from depthrefine.methods.gbp import GbpParams
+    from depthrefine.methods.gbp.fast import GbpFastParams, upsample_gbp_fast
+
+    truth = scene.depth_hr_gt
+    depth_lr = _shifted(truth, SCALE, 3, -3)                          # 0.75 depth pixels along each axis
+    m = measure_input(as_depth(depth_lr), scene.rgb_hr)
+    assert thin_fattened(m, scene.rgb_hr) is m                        # not said to be reprojected: left alone
+    moved = thin_fattened(m, scene.rgb_hr, shift=True)
+    assert moved is not m and np.array_equal(np.isnan(moved.depth), np.isnan(depth_lr))
+    told = {"gbp": upsample_gbp(depth_lr, scene.rgb_hr, params=GbpParams(reprojected=True)),
+            "gbp-fast": upsample_gbp_fast(depth_lr, scene.rgb_hr, params=GbpFastParams(reprojected=True))}
+    monkeypatch.setattr(fattening, "SHIFT_MIN", np.inf)               # the same calls without the move
+    kept = {"gbp": upsample_gbp(depth_lr, scene.rgb_hr, params=GbpParams(reprojected=True)),
+            "gbp-fast": upsample_gbp_fast(depth_lr, scene.rgb_hr, params=GbpFastParams(reprojected=True))}
+    for method in told:
+        assert _rmse(told[method], truth) < 0.6 * _rmse(kept[method], truth), method
+    # a registered input (no shift) told it is reprojected measures below SHIFT_MIN and is not moved
+    monkeypatch.setattr(fattening, "SHIFT_MIN", 0.25)
+    registered = measure_input(as_depth(_footprint_means(truth, SCALE)), scene.rgb_hr)
+    assert thin_fattened(registered, scene.rgb_hr, shift=True) is registered

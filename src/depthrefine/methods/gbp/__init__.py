@@ -9,7 +9,8 @@ registered color image (``H x W``, any factor) in five steps (a sixth on request
    depth jump, and the guide's own noise (:class:`InputMeasures`);
    ``fattening`` (1b) where the input's jumps sit consistently beyond the color
    edges on every side (a direct-ToF camera's near surface spilling over the
-   far one), thin the spilling side by as much;
+   far one), thin the spilling side by as much; on a reprojected input, move
+   the whole map back by the shift its jumps show against the color edges;
 2. ``solve``    start from the bicubic enlargement, clipped at the input's jumps;
 3. ``solve``    back-project: rounds of "add the enlarged residual ``y - D(x)``,
    smooth with a weighted least-squares solve whose weights fall with the

@@ -8,7 +8,8 @@ gbp's own steps on a reduced grid, then one edge-aware solve at full resolution:
    cheap measure on the work grid of step 2 first, and where it does not
    clearly say "no fattening", gbp's own measure on the full-resolution
    guide (on the work grid alone, 4 of the 15 direct-ToF cases of the
-   ``sensor`` protocol went unmeasured);
+   ``sensor`` protocol went unmeasured); a reprojected input always gets the
+   full measure, and is moved back by its shift (:func:`~.fattening.edge_shift`);
 2. reduce the guide by an integer factor ``k >= 2`` (area mean), so that the
    work grid is at least ``work_scale`` times the depth grid;
 3. on the work grid, gbp's steps 2-4 (:func:`~.solve.back_project` with
@@ -219,9 +220,9 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
         guide_work = np.ascontiguousarray(resize(guide, work, cv2.INTER_AREA))       # 2
     m = measure_input(depth, noise_rows(guide), sampling=p.sampling)                 # 1
     # 1b: the cheap measure on the work grid first (none where that is the full grid: the same measure twice),
-    # then gbp's own, on the full-resolution guide
-    if guide_work is guide or not clearly_unfattened(m, guide_work):
-        m = thin_fattened(m, guide)
+    # then gbp's own, on the full-resolution guide; a reprojected input's shift is measured there only
+    if p.reprojected or guide_work is guide or not clearly_unfattened(m, guide_work):
+        m = thin_fattened(m, guide, shift=bool(p.reprojected))
     solver = make_solver(guide_work, m, g, GUIDE_NOISE, coarse=False)   # the work grid is reduced already
     bounds = local_bounds(m.depth, work)
     x = back_project(m, solver, g, bounds, None if progress is None else lambda k, _: step(k),    # 3

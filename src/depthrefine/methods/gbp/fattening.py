@@ -1,4 +1,4 @@
-"""Step 1b of gbp: thin the surface a direct-ToF camera has grown over its neighbours.
+"""Step 1b of gbp: thin the surface a direct-ToF camera has grown over its neighbours; undo a reprojected map's shift.
 
 A direct-ToF pixel (phone LiDAR, SPAD arrays) reports the first strong
 return inside its footprint: where a near and a far surface share it, the
@@ -21,6 +21,16 @@ inputs it stays at most 0.40, on the simulated direct-ToF camera of the
 color grid (a grey-level erosion of the larger values, or dilation) and
 reduces it back to the input's grid: the input the later steps see is the
 footprint mean the jumps would have had without the fattening.
+
+The same medians measure a shift of the whole map against the color image
+(:func:`edge_shift`: opposite sectors' medians differ by twice the shift
+along their axis, and a fattening cancels). A depth map reprojected from a
+camera beside the color camera (``GbpParams.reprojected``) carries one: the
+calibration's error, the parallax its reprojection leaves. With ``shift``,
+:func:`thin_fattened` moves the input back by it when it is at least
+:data:`SHIFT_MIN` depth pixels. Registered inputs are not moved: their
+textured scenes measure shifts up to 0.9 depth pixels where there is none
+(a strong color edge beside half of their jumps), as they do fattenings.
 """
 
 from __future__ import annotations
@@ -33,7 +43,8 @@ import numpy as np
 from .measure import InputMeasures, near_jump
 from .solve import resize
 
-__all__ = ["edge_offset", "offset_axes", "clearly_unfattened", "edge_offsets", "thin_fattened"]
+__all__ = ["edge_offset", "edge_shift", "offset_axes", "sector_medians", "clearly_unfattened", "edge_offsets",
+           "thin_fattened"]
 
 #: An offset of the color edges below this many depth pixels is left alone (registered benchmark inputs: <= 0.40).
 FATTEN_MIN = 0.5
@@ -53,19 +64,48 @@ DIRECTIONS = 8
 MIN_SECTOR_PIXELS = 25
 #: ... and at least this many axes need both of their sectors.
 MIN_AXES = 3
+#: A reprojected input's shift (:func:`edge_shift`) is undone from this many depth pixels (sensor tuning means
+#: 0.1 / 0.25 / 0.4: 5.2536 / 5.2424 / 5.2577, never 5.6116; docs/tuning.md).
+SHIFT_MIN = 0.25
 
 
-def edge_offset(m: InputMeasures, guide: np.ndarray) -> float:
+def edge_offset(m: InputMeasures, guide: np.ndarray, medians: np.ndarray | None = None) -> float:
     """How far the color edges lie from the input's large depth jumps, depth pixels, signed (see :func:`offset_axes`).
 
     The median over the axes of :func:`offset_axes`, and 0.0 when fewer than
     :data:`MIN_AXES` axes have both sectors (an outline facing one way, a
     single straight edge say, cannot tell a fattening from a shift or a
     shadow). Positive: the color edges lie on the side of the larger
-    values, i.e. the larger values spill over the smaller.
+    values, i.e. the larger values spill over the smaller. ``medians``:
+    :func:`sector_medians`, when measured already.
     """
-    axes = offset_axes(m, guide)
+    axes = offset_axes(m, guide, medians)
     return float(np.median(axes)) if len(axes) >= MIN_AXES else 0.0
+
+
+def edge_shift(m: InputMeasures, guide: np.ndarray, medians: np.ndarray | None = None) -> tuple[float, float]:
+    """The shift ``(dy, dx)`` of the input's depth jumps from the color edges, depth pixels; (0, 0) when unmeasured.
+
+    Where the whole map sits displaced by ``u`` from the color image, a jump
+    whose depth gradient points along ``g`` has its color edge at ``-u.g``
+    (plus any fattening), the opposite sector's at ``+u.g``: half the
+    difference of two opposite sectors' medians (:func:`sector_medians`) is
+    ``u`` along their axis. ``u`` is the least-squares fit over the axes
+    with both sectors, at least two of them.
+    """
+    if medians is None:
+        medians = sector_medians(m, guide)
+    half = DIRECTIONS // 2
+    rows, along = [], []
+    for i in range(half):
+        if np.isfinite(medians[i]) and np.isfinite(medians[i + half]):
+            angle = 2.0 * np.pi * i / DIRECTIONS
+            rows.append((math.sin(angle), math.cos(angle)))      # the axis's direction, (y, x)
+            along.append((medians[i + half] - medians[i]) / 2.0)
+    if len(rows) < 2:
+        return 0.0, 0.0
+    shift = np.linalg.lstsq(np.array(rows), np.array(along), rcond=None)[0]
+    return float(shift[0]), float(shift[1])
 
 
 def clearly_unfattened(m: InputMeasures, guide: np.ndarray) -> bool:
@@ -85,25 +125,35 @@ def clearly_unfattened(m: InputMeasures, guide: np.ndarray) -> bool:
     return len(axes) >= 1 and max(abs(a) for a in axes) <= FATTEN_MIN / 2
 
 
-def offset_axes(m: InputMeasures, guide: np.ndarray) -> list[float]:
+def offset_axes(m: InputMeasures, guide: np.ndarray, medians: np.ndarray | None = None) -> list[float]:
     """The offset of the color edges from the input's large depth jumps per axis that has both sectors, depth pixels.
 
-    The offsets of :func:`edge_offsets` are grouped by the direction of the
-    depth gradient into :data:`DIRECTIONS` sectors (centred on the image
-    axes and diagonals). A fattening grows an object on opposite sides
-    alike, while a shift of the whole map moves opposite sides' edges in
-    opposite directions, so the offset is measured per axis, as the mean of
-    two opposite sectors' medians (a shift cancels), each sector holding
-    counted pixels along :data:`MIN_SECTOR_PIXELS` depth pixels of outline.
+    A fattening grows an object on opposite sides alike, while a shift of
+    the whole map moves opposite sides' edges in opposite directions, so the
+    offset is measured per axis, as the mean of two opposite sectors'
+    medians (:func:`sector_medians`; a shift cancels).
+    """
+    if medians is None:
+        medians = sector_medians(m, guide)
+    half = DIRECTIONS // 2
+    axes = [(medians[i] + medians[i + half]) / 2.0 for i in range(half)]
+    return [float(a) for a in axes if np.isfinite(a)]
+
+
+def sector_medians(m: InputMeasures, guide: np.ndarray) -> np.ndarray:
+    """The median offset (:func:`edge_offsets`) per direction of the depth gradient, depth pixels; NaN where too few.
+
+    The offsets are grouped by the direction of the depth gradient into
+    :data:`DIRECTIONS` sectors (centred on the image axes and diagonals,
+    sector ``i`` on the angle ``2 pi i / DIRECTIONS`` from the x axis towards
+    the y axis); a sector counts when it holds counted pixels along
+    :data:`MIN_SECTOR_PIXELS` depth pixels of outline.
     """
     offsets, angles = edge_offsets(m, guide)
     enough = MIN_SECTOR_PIXELS * min(PROFILE_STEPS, guide.shape[0] / m.depth.shape[0])   # depth pixels of outline
     sector = np.floor(angles / (2.0 * np.pi) * DIRECTIONS + 0.5).astype(np.int64) % DIRECTIONS
-    medians = [np.median(offsets[sector == i]) if (sector == i).sum() >= enough else np.nan
-               for i in range(DIRECTIONS)]
-    half = DIRECTIONS // 2
-    axes = [(medians[i] + medians[i + half]) / 2.0 for i in range(half)]
-    return [float(a) for a in axes if np.isfinite(a)]
+    return np.array([np.median(offsets[sector == i]) if (sector == i).sum() >= enough else np.nan
+                     for i in range(DIRECTIONS)])
 
 
 def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -146,25 +196,38 @@ def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.nd
     return offsets / scale, angles
 
 
-def thin_fattened(m: InputMeasures, guide: np.ndarray) -> InputMeasures:
+def thin_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False) -> InputMeasures:
     """The input's measures with a fattened side thinned (step 1b); ``m`` itself when no offset counts.
 
     The hole-filled input is enlarged to the color grid (nearest), the side
     that spills (:func:`edge_offset`) shrunk by the offset with a disc
     (grey-level erosion of the larger values, dilation of the smaller), and
-    reduced back by area; holes stay holes. Noise, range, sampling model and
-    the guide's noise are the input's own; the jump map is measured anew.
+    reduced back by area; holes stay holes. With ``shift`` (a reprojected
+    input), the enlarged input is first moved back by its shift
+    (:func:`edge_shift`, bilinear, so a jump can land between two input
+    pixels' borders) when that is at least :data:`SHIFT_MIN`. Noise, range,
+    sampling model and the guide's noise are the input's own; the jump map
+    is measured anew.
     """
     import cv2
 
-    offset = edge_offset(m, guide)
-    if abs(offset) < FATTEN_MIN:
+    medians = sector_medians(m, guide)
+    offset = edge_offset(m, guide, medians)
+    dy, dx = edge_shift(m, guide, medians) if shift else (0.0, 0.0)
+    shifted = math.hypot(dy, dx) >= SHIFT_MIN
+    if abs(offset) < FATTEN_MIN and not shifted:
         return m
     shape = guide.shape[:2]
-    radius = int(round(abs(offset) * shape[0] / m.depth.shape[0]))
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1,) * 2)
     enlarged = resize(m.filled, shape, cv2.INTER_NEAREST)
-    thinned = cv2.erode(enlarged, disc) if offset > 0 else cv2.dilate(enlarged, disc)
-    filled = resize(thinned, m.depth.shape, cv2.INTER_AREA)
+    if shifted:
+        sy, sx = shape[0] / m.depth.shape[0], shape[1] / m.depth.shape[1]
+        move = np.float32([[1, 0, -dx * sx], [0, 1, -dy * sy]])
+        enlarged = cv2.warpAffine(enlarged, move, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
+                                  borderMode=cv2.BORDER_REPLICATE)
+    if abs(offset) >= FATTEN_MIN:
+        radius = int(round(abs(offset) * shape[0] / m.depth.shape[0]))
+        disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1,) * 2)
+        enlarged = cv2.erode(enlarged, disc) if offset > 0 else cv2.dilate(enlarged, disc)
+    filled = resize(enlarged, m.depth.shape, cv2.INTER_AREA)
     depth = np.where(m.valid, filled, np.nan).astype(np.float32)
     return dataclasses.replace(m, depth=depth, filled=filled, jump=near_jump(filled, m.sigma, m.span))
