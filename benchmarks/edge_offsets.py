@@ -1,4 +1,4 @@
-"""gbp's step 1b on the benchmark inputs: the measured edge offset of each case, and where it thins.
+"""gbp's step 1b on the benchmark inputs: the measured edge offset and shift of each case, and where each acts.
 
 For every case of the protocols given, prints the offset of the color edges
 from the input's depth jumps (``depthrefine.methods.gbp.fattening.edge_offset``,
@@ -7,7 +7,11 @@ whether it reaches ``FATTEN_MIN`` (step 1b thins the input there); then, per
 protocol, the largest offset of the cases it leaves alone and how many it
 thins. A registered input must stay below the threshold (its output is then
 bit-identical to gbp without step 1b); the ``sensor`` protocol's direct-ToF
-cases should reach it::
+cases should reach it. Beside it, the shift of the whole map from the color
+edges (``fattening.edge_shift``, depth pixels, (dy, dx)) and whether it reaches
+``SHIFT_MIN``: step 1b moves the input back by it only when the input is
+reprojected (the ``sensor`` protocol's cases, ``run``'s); on the registered
+protocols it shows what the measure reads where there is no shift::
 
     python benchmarks/edge_offsets.py                       # every protocol
     python benchmarks/edge_offsets.py --protocols sensor    # one
@@ -16,6 +20,7 @@ cases should reach it::
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
@@ -23,7 +28,7 @@ from pathlib import Path
 def main(argv: list[str] | None = None) -> int:
     from depthrefine._validate import as_depth, check_rgb, guide_uint8
     from depthrefine.bench.protocols import load_cases
-    from depthrefine.methods.gbp.fattening import FATTEN_MIN, edge_offset
+    from depthrefine.methods.gbp.fattening import FATTEN_MIN, SHIFT_MIN, edge_offset, edge_shift, sector_medians
     from depthrefine.methods.gbp.measure import measure_input
 
     default = Path(__file__).resolve().parents[1].parent / "shared" / "data"
@@ -34,19 +39,25 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     for protocol in args.protocols.split(","):
         scales = (4, 8) if protocol == "realtof" else (4, 8, 16)
-        left, thinned = 0.0, []
+        left, thinned, shifts = 0.0, [], []
         for case in load_cases(args.data, protocol, scales):
             guide = guide_uint8(check_rgb(case.rgb_hr))
-            offset = edge_offset(measure_input(as_depth(case.depth_lr), guide), guide)
+            m = measure_input(as_depth(case.depth_lr), guide)
+            medians = sector_medians(m, guide)
+            offset = edge_offset(m, guide, medians)
+            dy, dx = edge_shift(m, guide, medians)
             applied = abs(offset) >= FATTEN_MIN
             if applied:
                 thinned.append(f"{case.scene} x{case.scale}")
             else:
                 left = max(left, abs(offset))
-            print(f"{protocol:12s} {case.scene:16s} x{case.scale:<3d} {offset:+.3f}{'  thinned' if applied else ''}",
+            shifts.append(math.hypot(dy, dx))
+            print(f"{protocol:12s} {case.scene:16s} x{case.scale:<3d} {offset:+.3f}{'  thinned' if applied else '':9s}"
+                  f" shift ({dy:+.2f}, {dx:+.2f}){'  moved if reprojected' if shifts[-1] >= SHIFT_MIN else ''}",
                   flush=True)
         print(f"{protocol}: thinned {len(thinned)} case(s); largest |offset| left alone {left:.3f} "
-              f"(threshold {FATTEN_MIN})", flush=True)
+              f"(threshold {FATTEN_MIN}); shift >= {SHIFT_MIN} in {sum(v >= SHIFT_MIN for v in shifts)} of "
+              f"{len(shifts)} case(s), largest {max(shifts, default=0.0):.2f}", flush=True)
     return 0
 
 
