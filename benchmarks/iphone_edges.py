@@ -18,6 +18,11 @@ result::
 
     PYTHONPATH=src python benchmarks/iphone_edges.py --figure docs/iphone_edges.jpg
     PYTHONPATH=src python benchmarks/iphone_edges.py --methods gbp,gbp-fast
+    PYTHONPATH=src python benchmarks/iphone_edges.py --methods gbp,gbp-fast --reprojected
+
+``--reprojected`` tells each method the depth was aligned to the color image by
+the camera's SDK, as ARKit's depth is: step 1b then undoes the shift its jumps
+show against the color edges.
 """
 
 from __future__ import annotations
@@ -44,15 +49,23 @@ ZOOM = (300, 700, 0, 720)
 EDGE_MM = 150.0
 
 
-def refiners(methods: tuple[str, ...] = (DEFAULT_METHOD,)) -> dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
-    """Bicubic, then each of ``methods`` (gbp or gbp-fast) without and with snapped edges: name -> refine call."""
+def refiners(methods: tuple[str, ...] = (DEFAULT_METHOD,), *, reprojected: bool = False
+             ) -> dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
+    """Bicubic, then each of ``methods`` (gbp or gbp-fast) without and with snapped edges: name -> refine call.
+
+    With ``reprojected`` each method is told its input was aligned to the color image by the camera's SDK
+    (``--reprojected``), as ARKit's depth is.
+    """
     from depthrefine.methods.registry import get_method
 
     calls = {"bicubic": functools.partial(depthrefine.refine, method="bicubic")}
+    told = " --reprojected" if reprojected else ""
     for method in methods:
-        snapped = get_method(method).params_type(snap_edges=True)
-        calls[method] = functools.partial(depthrefine.refine, method=method)
-        calls[f"{method} --snap-edges"] = functools.partial(depthrefine.refine, method=method, params=snapped)
+        params_type = get_method(method).params_type
+        for snap in (False, True):
+            params = params_type(snap_edges=snap, reprojected=True if reprojected else None)
+            name = f"{method}{told}{' --snap-edges' if snap else ''}"
+            calls[name] = functools.partial(depthrefine.refine, method=method, params=params)
     return calls
 
 
@@ -95,12 +108,14 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--methods", default=DEFAULT_METHOD, metavar="A,B",
                     help="methods with a snap_edges knob, each without and with it (default: %(default)s)")
+    ap.add_argument("--reprojected", action="store_true",
+                    help="tell each method the depth was aligned to the color image by the camera's SDK (ARKit's is)")
     ap.add_argument("--repeats", type=int, default=0, metavar="N",
                     help="also time each result N times, alternated with OpenCV's FGS (median ms and ratio)")
     ap.add_argument("--figure", metavar="FILE", help="also write the zoomed outlines to this picture (.jpg, .png)")
     args = ap.parse_args(argv)
     capture = load_capture("bookshelf")
-    calls = refiners(tuple(args.methods.split(",")))
+    calls = refiners(tuple(args.methods.split(",")), reprojected=args.reprojected)
     refined = {name: call(capture.depth, capture.rgb) for name, call in calls.items()}
     times, peer = median_times(calls, capture.depth, capture.rgb, args.repeats) if args.repeats > 0 else ({}, 0.0)
     print("median distance of the near outline to the color edges, px (share within 2 px; outline pixels)"

@@ -41,8 +41,9 @@ def parse_sampling(text: str) -> str:
 REPROJECTED = MethodOption(
     "--reprojected", "reprojected", switch=True,
     help="(gbp and gbp-fast) the depth was reprojected onto the color camera from a depth camera beside it, "
-         "e.g. aligned by the camera's SDK (GbpParams.reprojected): smooth at least as much as lambda_lr = 2, "
-         "as its samples sit a fraction of a pixel off; run and batch with a rig set it themselves")
+         "e.g. aligned by the camera's SDK, as ARKit's iPhone LiDAR depth is (GbpParams.reprojected): smooth at "
+         "least as much as lambda_lr = 2, as its samples sit a fraction of a pixel off, and move the map back by "
+         "the shift its depth edges show against the color edges; run and batch with a rig set it themselves")
 
 #: ``--sampling``, shared by gbp and gbp-fast.
 SAMPLING = MethodOption(
