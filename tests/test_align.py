@@ -613,6 +613,26 @@ def test_unmeasured_along_color_keeps_a_thin_measured_part():
     assert not moved[0, 19:21].all()                              # its middle stays measured
 
 
+@pytest.mark.parametrize("blur", [0.0, 1.0])
+@pytest.mark.parametrize("channels", [1, 3])
+def test_color_step_costs_are_the_channel_sums_in_order(blur, channels):
+    """The step costs (summed plane by plane for speed) have the bits of the plain expression ``sqrt(sum over the
+    channels of squared differences, in channel order) + step_levels``: the geodesic's outputs do not move."""
+    rng = np.random.default_rng(7)
+    color = rng.integers(0, 256, (37, 53, channels)).astype(np.uint8)
+    c = color.astype(np.float32)
+    if blur:
+        c = cv2.GaussianBlur(c, (0, 0), blur).reshape(c.shape)
+    step = np.float32(2.0)
+    dx, dy = c[:, 1:] - c[:, :-1], c[1:] - c[:-1]
+    plain_x = np.sqrt(np.sum(np.square(dx), axis=2)) + step
+    plain_y = np.sqrt(np.sum(np.square(dy), axis=2)) + step
+    cost_x, cost_y = color_step_costs(color, blur=blur, step_levels=2.0)
+    assert cost_x.dtype == cost_y.dtype == np.float32
+    np.testing.assert_array_equal(cost_x, np.pad(plain_x, ((0, 0), (0, 1))))
+    np.testing.assert_array_equal(cost_y, np.pad(plain_y, ((0, 1), (0, 0))))
+
+
 def test_keep_unmeasured_checks_the_color_image_on_every_frame():
     measured = np.full((4, 4), 100.0, np.float32)           # nothing unmeasured: the border has nothing to do
     with pytest.raises(ValueError, match="rgb_hr has shape"):

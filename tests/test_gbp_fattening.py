@@ -102,13 +102,17 @@ def test_the_search_gives_the_same_offsets_on_any_number_of_threads(scene):
 
     m = measure_input(as_depth(_fattened(scene.depth_hr_gt, SCALE, grow=SCALE, larger_wins=True)), scene.rgb_hr)
     shared = edge_offsets(m, scene.rgb_hr)
-    previous = _numba.set_threads(1)
-    try:
-        alone = edge_offsets(m, scene.rgb_hr)
-    finally:
-        _numba.set_threads(previous)
+    runs = []
+    for threads in (1, None, 1, None):   # fresh arrays each time: the gradients' bits must not follow their alignment
+        previous = _numba.set_threads(threads) if threads else None
+        try:
+            runs.append(edge_offsets(m, scene.rgb_hr.copy()))
+        finally:
+            if previous is not None:
+                _numba.set_threads(previous)
     assert shared[0].size > 100
-    assert all(np.array_equal(a, b) for a, b in zip(shared, alone))
+    for again in runs:
+        assert all(np.array_equal(a, b) for a, b in zip(shared, again))
 
 
 def test_gbp_fast_thins_as_gbp_measures(scene, monkeypatch):
@@ -171,3 +175,63 @@ def test_a_reprojected_inputs_shift_is_undone_and_a_registered_one_is_not_moved(
     monkeypatch.setattr(fattening, "SHIFT_MIN", 0.25)
     registered = measure_input(as_depth(_footprint_means(truth, SCALE)), scene.rgb_hr)
     assert thin_fattened(registered, scene.rgb_hr, shift=True) is registered
+
+
+def test_a_shift_at_a_non_integer_ratio_moves_the_map_by_the_shift_only():
+    """At a colour/depth ratio that is not an integer (a Kinect frame's 1.21 on its grid), the move works on a grid an
+    integer multiple of the input's: a registered input moved by 1 colour pixel and told it is reprojected comes
+    back close to the truth on both axes (a nearest/area round trip through the colour grid moved its jumps by up
+    to 0.8 depth pixels)."""
+    import cv2
+
+    from depthrefine.methods.gbp import GbpParams
+
+    rows, cols, h, w = 240, 320, 99, 132                    # ratio 2.42
+    truth = np.full((rows, cols), 40.0, np.float32)
+    rgb = np.zeros((rows, cols, 3), np.uint8)
+    rgb[:] = (90, 110, 130)
+    for (x, y), radius, depth, color in (((90, 90), 60, 200.0, (230, 60, 40)), ((230, 150), 70, 120.0, (40, 200, 90))):
+        cv2.circle(truth, (x, y), radius, depth, -1)
+        cv2.circle(rgb, (x, y), radius, color, -1)
+    moved = cv2.warpAffine(truth, np.float32([[1, 0, 3], [0, 1, -2]]), (cols, rows), flags=cv2.INTER_NEAREST,
+                           borderMode=cv2.BORDER_REPLICATE)
+    depth_lr = cv2.resize(moved, (w, h), interpolation=cv2.INTER_AREA)
+    m = measure_input(as_depth(depth_lr), rgb)
+    back = thin_fattened(m, rgb, shift=True)
+    assert back is not m
+    told = upsample_gbp(depth_lr, rgb, params=GbpParams(reprojected=True))
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(fattening, "SHIFT_MIN", np.inf)
+        kept = upsample_gbp(depth_lr, rgb, params=GbpParams(reprojected=True))
+    assert _rmse(told, truth) < 0.6 * _rmse(kept, truth)
+
+
+@pytest.mark.parametrize("color_shape", [(48, 72), (48, 73), (55, 81)])
+def test_the_move_is_exact_at_any_ratio(monkeypatch, color_shape):
+    """A measured shift of half a depth pixel along x moves a step by exactly that: the column beside it becomes the
+    mean of the two sides, every other pixel keeps its value, whatever the colour/depth ratio (2, 2.4, 2.7)."""
+    depth_lr = np.where(np.arange(30)[None, :] < 15, 10.0, 110.0).repeat(20, axis=0).astype(np.float32)
+    rgb = np.zeros((*color_shape, 3), np.uint8)
+    m = measure_input(as_depth(depth_lr), rgb)
+    monkeypatch.setattr(fattening, "edge_shift", lambda *args: (0.0, 0.5))
+    monkeypatch.setattr(fattening, "edge_offset", lambda *args: 0.0)
+    moved = thin_fattened(m, rgb, shift=True).filled
+    expected = depth_lr.copy()
+    expected[:, 14] = 60.0
+    np.testing.assert_allclose(moved, expected, atol=1e-4)
+
+
+def test_holes_move_with_the_map(monkeypatch):
+    """Moved back by one depth pixel along x, a hole moves one pixel too; its filled values stay finite."""
+    depth_lr = np.tile(np.linspace(10.0, 100.0, 30, dtype=np.float32), (20, 1))
+    depth_lr[:, 10:13] = np.nan
+    rgb = np.zeros((60, 90, 3), np.uint8)
+    m = measure_input(as_depth(depth_lr), rgb)
+    monkeypatch.setattr(fattening, "edge_shift", lambda *args: (0.0, 1.0))
+    monkeypatch.setattr(fattening, "edge_offset", lambda *args: 0.0)
+    moved = thin_fattened(m, rgb, shift=True)
+    holes = np.zeros(depth_lr.shape, bool)
+    holes[:, 9:12] = True
+    np.testing.assert_array_equal(~moved.valid, holes)
+    np.testing.assert_array_equal(np.isnan(moved.depth), holes)
+    assert np.isfinite(moved.filled).all()

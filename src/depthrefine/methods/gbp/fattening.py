@@ -186,14 +186,23 @@ def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.nd
     band = resize(band_lr.astype(np.uint8), shape, cv2.INTER_NEAREST) > 0
     depth = cv2.GaussianBlur(resize(m.filled, shape, cv2.INTER_LINEAR), (0, 0), max(1.0, DEPTH_BLUR * scale))
     gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
-    magnitude = cv2.magnitude(gx, gy)
+    # numpy's exactly rounded square root, not cv2.magnitude: its vector and scalar paths round differently, and
+    # where they meet moves with the arrays' alignment, so the offsets changed from one process to the next
+    magnitude = _hypot(gx, gy)
     luma = cv2.GaussianBlur(luma, (0, 0), GUIDE_BLUR)
-    edges = cv2.magnitude(cv2.Sobel(luma, cv2.CV_32F, 1, 0), cv2.Sobel(luma, cv2.CV_32F, 0, 1))
+    edges = _hypot(cv2.Sobel(luma, cv2.CV_32F, 1, 0), cv2.Sobel(luma, cv2.CV_32F, 0, 1))
 
     from ._offsets import jump_offsets
 
     offsets, angles = jump_offsets(band, magnitude, gx, gy, edges, math.ceil(SEARCH_RADIUS * scale), PEAK_RATIO)
     return offsets / scale, angles
+
+
+def _hypot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``sqrt(x**2 + y**2)``, float32, exactly rounded (the same bits in every process)."""
+    out = x * x
+    out += y * y
+    return np.sqrt(out, out=out)
 
 
 def thin_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False) -> InputMeasures:
@@ -203,31 +212,44 @@ def thin_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False) -
     that spills (:func:`edge_offset`) shrunk by the offset with a disc
     (grey-level erosion of the larger values, dilation of the smaller), and
     reduced back by area; holes stay holes. With ``shift`` (a reprojected
-    input), the enlarged input is first moved back by its shift
-    (:func:`edge_shift`, bilinear, so a jump can land between two input
-    pixels' borders) when that is at least :data:`SHIFT_MIN`. Noise, range,
-    sampling model and the guide's noise are the input's own; the jump map
-    is measured anew.
+    input), when its shift (:func:`edge_shift`) is at least
+    :data:`SHIFT_MIN`, the input and its holes are first moved back by it,
+    bilinearly (a jump can land between two input pixels' borders), on a
+    grid an integer multiple of the input's (so that enlarging and reducing
+    move nothing else), a pixel staying a hole where it is moved at least
+    half into one. Noise, range, sampling model and the guide's noise are
+    the input's own; the jump map is measured anew.
     """
     import cv2
 
     medians = sector_medians(m, guide)
     offset = edge_offset(m, guide, medians)
     dy, dx = edge_shift(m, guide, medians) if shift else (0.0, 0.0)
-    shifted = math.hypot(dy, dx) >= SHIFT_MIN
-    if abs(offset) < FATTEN_MIN and not shifted:
+    shifted = shift and math.hypot(dy, dx) >= SHIFT_MIN
+    fattened = abs(offset) >= FATTEN_MIN
+    if not (fattened or shifted):
         return m
-    shape = guide.shape[:2]
-    enlarged = resize(m.filled, shape, cv2.INTER_NEAREST)
+    h, w = m.depth.shape
+    valid = m.valid
     if shifted:
-        sy, sx = shape[0] / m.depth.shape[0], shape[1] / m.depth.shape[1]
-        move = np.float32([[1, 0, -dx * sx], [0, 1, -dy * sy]])
-        enlarged = cv2.warpAffine(enlarged, move, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
-                                  borderMode=cv2.BORDER_REPLICATE)
-    if abs(offset) >= FATTEN_MIN:
-        radius = int(round(abs(offset) * shape[0] / m.depth.shape[0]))
+        k = math.ceil(max(guide.shape[0] / h, guide.shape[1] / w))
+        shape = (k * h, k * w)
+        move = np.float32([[1, 0, -dx * k], [0, 1, -dy * k]])
+
+        def moved(image: np.ndarray) -> np.ndarray:
+            return cv2.warpAffine(resize(image, shape, cv2.INTER_NEAREST), move, (shape[1], shape[0]),
+                                  flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+
+        enlarged = moved(m.filled)
+        if not valid.all():
+            valid = resize(moved(valid.astype(np.float32)), (h, w), cv2.INTER_AREA) > 0.5
+    else:
+        shape = guide.shape[:2]
+        enlarged = resize(m.filled, shape, cv2.INTER_NEAREST)
+    if fattened:
+        radius = int(round(abs(offset) * shape[0] / h))
         disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1,) * 2)
         enlarged = cv2.erode(enlarged, disc) if offset > 0 else cv2.dilate(enlarged, disc)
-    filled = resize(enlarged, m.depth.shape, cv2.INTER_AREA)
-    depth = np.where(m.valid, filled, np.nan).astype(np.float32)
-    return dataclasses.replace(m, depth=depth, filled=filled, jump=near_jump(filled, m.sigma, m.span))
+    filled = resize(enlarged, (h, w), cv2.INTER_AREA)
+    depth = np.where(valid, filled, np.nan).astype(np.float32)
+    return dataclasses.replace(m, depth=depth, valid=valid, filled=filled, jump=near_jump(filled, m.sigma, m.span))

@@ -33,7 +33,7 @@ from .measure import InputMeasures, noise_share
 if TYPE_CHECKING:
     from .params import GbpParams
 
-__all__ = ["Solver", "Bounds", "make_solver", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
+__all__ = ["Solver", "Bounds", "make_solver", "smoothed_guide", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
            "back_project", "detail_lambda",
            "flat_blend", "reduce", "resize"]
 
@@ -137,6 +137,19 @@ class Solver:
                       self.flat_sigma_color)
 
 
+def smoothed_guide(guide: np.ndarray, guide_smoothing: float) -> np.ndarray:
+    """The guide after the 3x3 bilateral filter of color sigma ``guide_smoothing`` (``GbpParams``); as it is at 0.
+
+    It flattens texture and noise within a color region and keeps the edges between regions.
+    """
+    import cv2
+
+    if guide_smoothing <= 0:
+        return guide
+    return cv2.bilateralFilter(guide, GUIDE_SMOOTHING_SIZE, guide_smoothing, GUIDE_SMOOTHING_SPACE,
+                               borderType=cv2.BORDER_REPLICATE)
+
+
 def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor: float, *,
                 coarse: bool = True) -> Solver:
     """The guide's color weights for the solves of an input measured as ``m``.
@@ -152,10 +165,7 @@ def make_solver(guide: np.ndarray, m: InputMeasures, p: GbpParams, floor_factor:
     from .. import _wls
 
     (h, w), (H, W) = m.depth.shape, guide.shape[:2]
-    if p.guide_smoothing > 0:
-        # flattens texture and noise within a color region, keeps the edges between regions
-        guide = cv2.bilateralFilter(guide, GUIDE_SMOOTHING_SIZE, p.guide_smoothing, GUIDE_SMOOTHING_SPACE,
-                                    borderType=cv2.BORDER_REPLICATE)
+    guide = smoothed_guide(guide, p.guide_smoothing)
     floor = floor_factor * m.guide_noise
     sigma_color, flat_sigma_color = max(p.sigma_color, floor), max(FLAT_SIGMA_COLOR, floor)
     color_x, color_y = _wls.color_weights(guide, sigma_color)
