@@ -65,7 +65,7 @@ MIN_SECTOR_PIXELS = 25
 #: ... and at least this many axes need both of their sectors.
 MIN_AXES = 3
 #: A reprojected input's shift (:func:`edge_shift`) is undone from this many depth pixels (sensor tuning means
-#: 0.1 / 0.25 / 0.4: 5.2536 / 5.2424 / 5.2577, never 5.6116; docs/tuning.md).
+#: 0.1 / 0.25 / 0.4: 5.2369 / 5.2257 / 5.2410, never 5.6116; docs/tuning.md).
 SHIFT_MIN = 0.25
 
 

@@ -102,8 +102,8 @@ class GbpParams:
         (``solve.REPROJECTED_LAMBDA_LR``), and step 1b moves the input back
         by the shift its jumps show against the color edges
         (``fattening.edge_shift``, from ``fattening.SHIFT_MIN``). On the
-        ``sensor`` protocol's test scenes it takes gbp from 5.34 / 6.26 /
-        9.72 to 4.35 / 5.34 / 9.20 levels under direct ToF (x4 / x8 / x16)
+        ``sensor`` protocol's test scenes it takes gbp from 5.37 / 6.26 /
+        9.72 to 4.34 / 5.35 / 9.20 levels under direct ToF (x4 / x8 / x16)
         and from 5.03 / 5.86 / 6.55 to 4.44 / 5.26 / 6.33 under indirect ToF
         (``docs/bench.md``).
     """
