@@ -131,14 +131,18 @@ def test_gbp_fast_thins_as_gbp_measures(scene, monkeypatch):
     assert _rmse(thinned, scene.depth_hr_gt) < 0.6 * _rmse(kept, scene.depth_hr_gt)
 
 
-def _shifted(depth_hr: np.ndarray, s: int, dy: int, dx: int) -> np.ndarray:
-    """A reprojected input whose calibration is off: the truth moved by (dy, dx) color pixels, then block means."""
+def _moved(depth_hr: np.ndarray, dy: int, dx: int) -> np.ndarray:
+    """The truth moved by (dy, dx) color pixels, as a miscalibrated depth camera sees it."""
     import cv2
 
     move = np.float32([[1, 0, dx], [0, 1, dy]])
-    moved = cv2.warpAffine(depth_hr, move, depth_hr.shape[::-1], flags=cv2.INTER_NEAREST,
-                           borderMode=cv2.BORDER_REPLICATE)
-    return _footprint_means(moved, s)
+    return cv2.warpAffine(depth_hr, move, depth_hr.shape[::-1], flags=cv2.INTER_NEAREST,
+                          borderMode=cv2.BORDER_REPLICATE)
+
+
+def _shifted(depth_hr: np.ndarray, s: int, dy: int, dx: int) -> np.ndarray:
+    """A reprojected input whose calibration is off: the truth moved by (dy, dx) color pixels, then block means."""
+    return _footprint_means(_moved(depth_hr, dy, dx), s)
 
 
 @pytest.mark.parametrize("dy, dx", [(2, 0), (-1, 2), (0, -3)])
@@ -177,33 +181,22 @@ def test_a_reprojected_inputs_shift_is_undone_and_a_registered_one_is_not_moved(
     assert thin_fattened(registered, scene.rgb_hr, shift=True) is registered
 
 
-def test_a_shift_at_a_non_integer_ratio_moves_the_map_by_the_shift_only():
+def test_a_shift_at_a_non_integer_ratio_moves_the_map_by_the_shift_only(scene, monkeypatch):
     """At a colour/depth ratio that is not an integer (a Kinect frame's 1.21 on its grid), the move works on a grid an
-    integer multiple of the input's: a registered input moved by 1 colour pixel and told it is reprojected comes
-    back close to the truth on both axes (a nearest/area round trip through the colour grid moved its jumps by up
+    integer multiple of the input's: the discs moved by (-2, 3) colour pixels, seen at ratio 2.42 and told they are
+    reprojected, come back close to the truth (a nearest/area round trip through the colour grid moved jumps by up
     to 0.8 depth pixels)."""
     import cv2
 
     from depthrefine.methods.gbp import GbpParams
 
-    rows, cols, h, w = 240, 320, 99, 132                    # ratio 2.42
-    truth = np.full((rows, cols), 40.0, np.float32)
-    rgb = np.zeros((rows, cols, 3), np.uint8)
-    rgb[:] = (90, 110, 130)
-    for (x, y), radius, depth, color in (((90, 90), 60, 200.0, (230, 60, 40)), ((230, 150), 70, 120.0, (40, 200, 90))):
-        cv2.circle(truth, (x, y), radius, depth, -1)
-        cv2.circle(rgb, (x, y), radius, color, -1)
-    moved = cv2.warpAffine(truth, np.float32([[1, 0, 3], [0, 1, -2]]), (cols, rows), flags=cv2.INTER_NEAREST,
-                           borderMode=cv2.BORDER_REPLICATE)
-    depth_lr = cv2.resize(moved, (w, h), interpolation=cv2.INTER_AREA)
-    m = measure_input(as_depth(depth_lr), rgb)
-    back = thin_fattened(m, rgb, shift=True)
-    assert back is not m
-    told = upsample_gbp(depth_lr, rgb, params=GbpParams(reprojected=True))
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(fattening, "SHIFT_MIN", np.inf)
-        kept = upsample_gbp(depth_lr, rgb, params=GbpParams(reprojected=True))
-    assert _rmse(told, truth) < 0.6 * _rmse(kept, truth)
+    depth_lr = cv2.resize(_moved(scene.depth_hr_gt, -2, 3), (159, 159), interpolation=cv2.INTER_AREA)
+    m = measure_input(as_depth(depth_lr), scene.rgb_hr)
+    assert thin_fattened(m, scene.rgb_hr, shift=True) is not m
+    told = upsample_gbp(depth_lr, scene.rgb_hr, params=GbpParams(reprojected=True))
+    monkeypatch.setattr(fattening, "SHIFT_MIN", np.inf)
+    kept = upsample_gbp(depth_lr, scene.rgb_hr, params=GbpParams(reprojected=True))
+    assert _rmse(told, scene.depth_hr_gt) < 0.6 * _rmse(kept, scene.depth_hr_gt)
 
 
 @pytest.mark.parametrize("color_shape", [(48, 72), (48, 73), (55, 81)])
