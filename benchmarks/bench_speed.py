@@ -31,7 +31,7 @@ its NFOV 640x576 depth registered onto its 720p color at x2
 
 Usage::
 
-    python benchmarks/bench_speed.py [--repeats 9] [--methods thesis,fgs] [--no-memory] [--no-startup]
+    python benchmarks/bench_speed.py [--repeats 9] [--methods thesis,fgs] [--no-memory] [--no-startup] [--kernels numba]
     python benchmarks/bench_speed.py --methods gbp,gbp-fast,thesis,fgs,bicubic    # the targets' methods
 
 A slow method gets fewer repeats (at least 3) so that it takes about
@@ -250,7 +250,13 @@ def main(argv: list[str] | None = None) -> int:
                     help="seconds per method and input that set a slow method's repeats (min 3)")
     ap.add_argument("--no-memory", action="store_true", help="skip the peak-memory measurement")
     ap.add_argument("--no-startup", action="store_true", help="skip the start-up and first-call measurements")
+    ap.add_argument("--kernels", choices=("built", "numba"), default="built",
+                    help="gbp's kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
     args = ap.parse_args(argv)
+    if args.kernels == "numba":
+        os.environ["DEPTHREFINE_KERNELS"] = "numba"     # this process and every one it starts
+    from depthrefine import _native
+
     methods = list(depthrefine.METHODS) if args.methods == "all" else args.methods.split(",")
     unknown = sorted(set(methods) - set(depthrefine.METHODS))
     if unknown:
@@ -259,6 +265,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"depthrefine {depthrefine.__version__}, OpenCV {cv2.__version__}, {cv2.getNumThreads()} OpenCV threads, "
           f"{os.cpu_count()} CPUs, up to {args.repeats} alternated repeats; FGS peer lambda={FGS_LAMBDA}, "
           f"sigma_color={FGS_SIGMA_COLOR}")
+    print("gbp's kernels: " + ("C (depthrefine._native)" if _native.library() is not None else
+                               f"numba ({_native.why_not()})"))
     print(f"load average at the start: {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min)")
     header = (f"{'input':48s} {'method':9s} {'ms':>8s} {'FGS ms':>8s} {'ratio':>6s} {'cpu':>6s} {'runs':>4s} "
               f"{'peak MB':>8s} {'x output':>9s}")

@@ -13,12 +13,13 @@ refine`` of the shipped Art scene at x4 (1376x1088, 1.5 MP) in a fresh process
 (numba's cache warm: one run first), against the same refine's second call in one
 process plus a bare ``python -c "import numpy, cv2"``; target: the fresh process
 within 1.5 times that sum. It also says where a fresh process's extra time goes
-(importing numba, numba's first use of a compiled kernel, SciPy).
+(loading depthrefine's C kernels, or importing numba and numba's first use of a
+compiled kernel with ``--kernels numba`` or where the C kernels are not built).
 
 Usage::
 
     python benchmarks/bench_startup.py [--repeats 11] [--all-commands]
-    python benchmarks/bench_startup.py --first-call [--methods gbp,gbp-fast] [--repeats 5]
+    python benchmarks/bench_startup.py --first-call [--methods gbp,gbp-fast] [--repeats 5] [--kernels numba]
 """
 
 from __future__ import annotations
@@ -113,12 +114,17 @@ stages["import numpy, cv2"] = time.perf_counter() - t; t = time.perf_counter()
 from depthrefine.cli import main
 import depthrefine.methods.registry
 stages["import depthrefine and its registry"] = time.perf_counter() - t; t = time.perf_counter()
-import numba
-stages["import numba"] = time.perf_counter() - t; t = time.perf_counter()
+from depthrefine import _native
+if _native.library() is not None:
+    stages["load depthrefine's C kernels"] = time.perf_counter() - t; t = time.perf_counter()
+else:
+    import numba
+    stages["import numba"] = time.perf_counter() - t; t = time.perf_counter()
 from depthrefine.methods import _wls
 x = numpy.zeros((4, 4), numpy.float32)
 _wls.smooth(x, x, x, 1.0)
-stages["numba's first compiled kernel (target set-up, SciPy's linalg, cache load)"] = time.perf_counter() - t
+stages["the first compiled kernel (numba: its target set-up, cache load)"] = time.perf_counter() - t
+stages["kernels"] = "C" if _native.library() is not None else "numba (" + _native.why_not() + ")"
 stages["scipy.ndimage imported by the refine"] = None
 t = time.perf_counter()
 main(sys.argv[1:])
@@ -198,7 +204,8 @@ def format_first_call(result: dict) -> list[str]:
         stages = r["stages"]
         parts = ", ".join(f"{k} {v * 1e3:.0f} ms" for k, v in stages.items() if isinstance(v, float))
         scipy = "yes" if stages.get("scipy.ndimage imported by the refine") else "no"
-        lines.append(f"  {method} in a fresh process: {parts}; scipy.ndimage imported: {scipy}")
+        lines.append(f"  {method} in a fresh process ({stages['kernels']} kernels): {parts}; "
+                     f"scipy.ndimage imported: {scipy}")
     return lines
 
 
@@ -208,7 +215,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--all-commands", action="store_true", help="also every other command's --help")
     ap.add_argument("--first-call", action="store_true", help="measure the first refine call instead (issue 22)")
     ap.add_argument("--methods", default="gbp", help="with --first-call: comma-separated methods (default gbp)")
+    ap.add_argument("--kernels", choices=("built", "numba"), default="built",
+                    help="gbp's kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
     args = ap.parse_args(argv)
+    if args.kernels == "numba":
+        os.environ["DEPTHREFINE_KERNELS"] = "numba"     # inherited by every process measured
     if args.first_call:
         result = measure_first_call(args.repeats or 5, tuple(args.methods.split(",")))
         print("\n".join(format_first_call(result)))

@@ -64,6 +64,15 @@ def no_numba(monkeypatch):
 
 
 @pytest.fixture
+def numba_kernels(monkeypatch):
+    """gbp runs numba's kernels, not depthrefine's C ones (``DEPTHREFINE_KERNELS=numba``), for this test."""
+    from depthrefine import _native
+
+    monkeypatch.setenv(_native.ENV, "numba")
+    monkeypatch.setattr(_native, "_loaded", [])
+
+
+@pytest.fixture
 def rng() -> np.random.Generator:
     """A fresh, seeded generator per test (never the global numpy state)."""
     return np.random.default_rng(20140701)

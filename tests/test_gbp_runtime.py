@@ -113,8 +113,8 @@ def scene():
     return make_scene((64, 64), 4, n_objects=2, seed=3, color_noise_std=4.0, shading=0.1)
 
 
-def test_refine_gbp_without_numba_names_numba(monkeypatch, scene, no_numba):
-    """As for the thesis method: the import error of numba itself, which the CLI and batch turn into advice."""
+def test_refine_gbp_without_numba_names_numba(monkeypatch, scene, numba_kernels, no_numba):
+    """Without the C kernels, as for the thesis method: numba's import error, which the CLI and batch turn into advice."""
     import depthrefine
 
     for method in ("gbp", "thesis"):
@@ -123,7 +123,8 @@ def test_refine_gbp_without_numba_names_numba(monkeypatch, scene, no_numba):
         assert info.value.name == "numba" and "numba" in str(info.value)
 
 
-def test_the_cli_without_numba_says_pip_install_numba_exit_2(monkeypatch, scene, tmp_path, capsys, no_numba):
+def test_the_cli_without_numba_says_pip_install_numba_exit_2(monkeypatch, scene, tmp_path, capsys, numba_kernels,
+                                                             no_numba):
     from depthrefine.cli import main
     from depthrefine.io import write_depth, write_rgb
 
@@ -138,7 +139,7 @@ def test_the_cli_without_numba_says_pip_install_numba_exit_2(monkeypatch, scene,
     assert not (tmp_path / "out.png").exists()
 
 
-def test_batch_without_numba_says_pip_install_numba(monkeypatch, scene, no_numba):
+def test_batch_without_numba_says_pip_install_numba(monkeypatch, scene, numba_kernels, no_numba):
     pytest.importorskip("distributed")
     from distributed import Client, LocalCluster
 
@@ -150,3 +151,17 @@ def test_batch_without_numba_says_pip_install_numba(monkeypatch, scene, no_numba
             list(refine_many(frames, method="gbp", client=client))
     message = str(info.value)
     assert "pip install numba" in message and "internal error" not in message and "\n" not in message
+
+
+def test_gbp_runs_without_numba_on_the_c_kernels(scene, no_numba):
+    """Where the C kernels are built, gbp and gbp-fast need no numba; the thesis method still does."""
+    import depthrefine
+    from depthrefine import _native
+
+    if _native.library() is None:
+        pytest.skip(f"depthrefine's C kernels: {_native.why_not()}")
+    for method in ("gbp", "gbp-fast"):
+        out = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method=method)
+        assert out.shape == scene.rgb_hr.shape[:2] and np.isfinite(out).all()
+    with pytest.raises(ModuleNotFoundError):
+        depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis")

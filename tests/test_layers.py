@@ -210,7 +210,7 @@ def test_the_new_names_do_not_warn():
 # ---------------------------------------------------------------------------- private imports
 
 
-SHARED_PRIVATE = {"_validate", "_lazy", "_fill", "_numba", "_names", "_picture", "_geodesic"}
+SHARED_PRIVATE = {"_validate", "_lazy", "_fill", "_numba", "_threads", "_native", "_names", "_picture", "_geodesic"}
 
 
 def private_cross_package_imports(root: Path = SRC) -> list[str]:

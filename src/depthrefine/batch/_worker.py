@@ -1,6 +1,6 @@
 """What a batch task sets in its worker process while it runs, and restores after the last task there.
 
-- **Kernel threads**: numba's (:func:`depthrefine._numba.set_threads`) and
+- **Kernel threads**: the compiled kernels' (:func:`depthrefine._threads.set_threads`) and
   OpenCV's (``cv2.setNumThreads``), capped at the worker's share of its
   machine's cores: the cores divided by the Dask threads of all workers on
   that machine, at least 1. Two one-thread workers on two cores run one
@@ -142,21 +142,19 @@ def task_settings(threads: int) -> Iterator[None]:
     global _users, _raised, _ended
     import cv2
 
-    try:
-        from .. import _numba
-    except ImportError:  # no numba: the methods that need it say so themselves
-        _numba = None
+    from .. import _threads
+
     with _lock:
         if _users == 0:
             _before.clear()
-            _before["numba"] = _numba.set_threads(threads) if _numba else None
+            _before["kernels"] = _threads.set_threads(threads)
             _before["cv2"] = cv2.getNumThreads()
             if _raised is None:
                 _raised = _raise_thresholds()
                 if _raised is not None:
                     _start_restorer()
-        elif _numba:
-            _numba.set_threads(threads)
+        else:
+            _threads.set_threads(threads)
         cv2.setNumThreads(threads)
         _users += 1
     try:
@@ -165,8 +163,7 @@ def task_settings(threads: int) -> Iterator[None]:
         with _lock:
             _users -= 1
             if _users == 0:
-                if _numba:
-                    _numba.set_threads(_before["numba"])
+                _threads.set_threads(_before["kernels"])
                 cv2.setNumThreads(_before["cv2"])
                 _ended = time.monotonic()
                 _idle.notify_all()

@@ -43,7 +43,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    warm = _warm_up_numba(args.method, own_process=getattr(args, "own_process", False))
+    warm = _warm_up_numba(args.method, own_process=getattr(args, "own_process", False),
+                          snap_edges=bool(getattr(args, "snap_edges", False)))
     try:
         return _run(args)
     finally:
@@ -51,17 +52,25 @@ def run(args: argparse.Namespace) -> int:
             warm.join()
 
 
-def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Thread | None:
-    """For a method that runs compiled kernels, numba's one-time set-up in a thread (while the images are read).
+def _warm_up_numba(method: str, *, own_process: bool = False, snap_edges: bool = False) -> threading.Thread | None:
+    """For a method that runs numba's kernels, numba's one-time set-up in a thread (while the images are read).
 
-    In the process's own command line (``own_process``), which runs only
-    depthrefine's kernels, numba is imported without cffi and PyYAML and
-    set up without its BLAS check (``cli._numba_lean``; ``_numba.warm_up``).
+    None for a method that runs none: not compiled, or all its kernels in
+    depthrefine's C library (gbp and gbp-fast when it is built, without
+    ``--snap-edges``). In the process's own command line (``own_process``),
+    which runs only depthrefine's kernels, numba is imported without cffi and
+    PyYAML and set up without its BLAS check (``cli._numba_lean``;
+    ``_numba.warm_up``).
     """
-    from ..methods._names import COMPILED_METHODS
+    from ..methods._names import COMPILED_METHODS, NATIVE_METHODS
 
     if method not in COMPILED_METHODS:
         return None
+    if method in NATIVE_METHODS and not snap_edges:
+        from .._native import library
+
+        if library() is not None:
+            return None
     if own_process:
         try:
             from ._numba_lean import import_numba_lean

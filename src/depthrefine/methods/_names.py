@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Iterator
 if TYPE_CHECKING:
     from .options import MethodOption
 
-__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "RegisteredMethodNames",
+__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "NATIVE_METHODS", "RegisteredMethodNames",
            "registered_method_options"]
 
 #: The method of :func:`depthrefine.refine` and of the commands when none is named: guided
@@ -34,9 +34,13 @@ BUILTIN_OPTION_MODULES = {"gbp": "depthrefine.methods.gbp._options",
                           "gbp-fast": "depthrefine.methods.gbp._fast_options",
                           "thesis": "depthrefine.methods.thesis._options"}
 
-#: Built-in methods that run numba's compiled kernels: the command line sets numba up in a thread while it
-#: reads the images (:func:`depthrefine._numba.warm_up`).
+#: Built-in methods that run compiled kernels: the command line sets numba up in a thread while it reads the
+#: images (:func:`depthrefine._numba.warm_up`), unless the method's kernels are all in depthrefine's C library.
 COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
+
+#: Compiled methods whose kernels depthrefine's C library holds when it is built (:mod:`depthrefine._native`),
+#: but for ``--snap-edges`` (its geodesic sweeps are numba's only).
+NATIVE_METHODS = ("gbp", "gbp-fast")
 
 _REGISTRY = "depthrefine.methods.registry"
 

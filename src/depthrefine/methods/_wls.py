@@ -1,4 +1,4 @@
-"""Weighted least-squares smoothing with any edge weights (numba): the solver of ``gbp``.
+"""Weighted least-squares smoothing with any edge weights (compiled kernels): the solver of ``gbp``.
 
 The fast global smoother of Min et al. (2014), as OpenCV-contrib's
 ``ximgproc.fastGlobalSmootherFilter`` implements it, solves
@@ -12,7 +12,7 @@ can also weight by the current depth's own gradients and vary the smoothing
 strength per pixel. With the color weights alone the result equals OpenCV's
 up to float rounding (tests/test_wls.py).
 
-The Thomas algorithm (:func:`_sweep_columns`) is written without the
+The Thomas algorithm (``sweep_columns`` in :mod:`._wls_jit` and its C twin) is written without the
 subtraction of OpenCV's pivot, which cancels when ``lambda * w`` is large
 (in float32 a constant came back off by 1e-2 at ``lambda * w = 3e6``, by
 1e4 at ``1e7``, and at ``1e8`` the pivot was zero, a division by zero);
@@ -27,14 +27,17 @@ cores or threads (OpenCV's filter splits its rows into per-thread stripes
 whose tails take a scalar path, which changed the last bits with the core
 count). The rows are solved as the columns of the transposed image (a
 column solve vectorises across neighbouring columns). Large images are cut
-into contiguous runs of blocks of columns, one per thread, by :func:`depthrefine._numba.run_split` (plain
+into contiguous runs of blocks of columns, one per thread, by :func:`depthrefine._threads.run_split` (plain
 Python threads; no numba ``parallel=True`` pool), so any number of threads
 may call the solver at once, e.g. the frames of ``depthrefine.batch`` on
 Dask threads, and a forked child works too, with the same bits.
 
 Imported only when ``gbp`` runs (never at ``import depthrefine``): importing
-this module imports numba (``ModuleNotFoundError`` without it; the command
-line and ``depthrefine.batch`` turn it into "pip install numba"). No
+this module imports neither numba nor the kernels. The kernels are
+depthrefine's C library when it was built at install (:mod:`depthrefine._native`),
+else numba's (:mod:`._wls_jit`, the reference; same bits); without either, a
+``ModuleNotFoundError`` (the command line and ``depthrefine.batch`` turn it
+into "pip install numba"). No
 ``fastmath``.
 
 Reference: D. Min, S. Choi, J. Lu, B. Ham, K. Sohn, M. N. Do, "Fast global
@@ -48,7 +51,8 @@ import threading
 
 import numpy as np
 
-from .._numba import expf32, njit, note_first_compile, run_split
+from .._native import kernels
+from .._threads import run_split
 from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth", "smooth_with_gradient",
@@ -61,82 +65,11 @@ _PARALLEL_PIXELS = 1 << 16
 #: The largest coupling ``lam * w`` of two neighbours: larger ones (and an infinite ``lam``) count as this.
 #: At it the two are already tied to float32 precision (their gap shrinks as ``1 / sqrt(lam * w)``).
 MAX_COUPLING = 1e30
-#: Seconds a first gbp call spends compiling the kernels with an empty numba cache (CPU seconds, cold minus warm,
-#: of ``python benchmarks/first_call.py --methods gbp`` on the 2-core machine at 71069c9: 5.6 and 6.0); said in
-#: the first-compile note.
-FIRST_COMPILE_SECONDS = 6
 
 
-@njit(error_model="numpy")
-def _sweep_columns(u, w, lam, j0, j1):
-    """Solve ``(I + lam * L_w) v = u`` along axis 0 for columns ``j0:j1`` of ``u``, in place.
-
-    ``w[i, j]`` is the weight between rows ``i`` and ``i + 1`` of column ``j``
-    (its last row is unused); ``a_i = min(lam * w[i], MAX_COUPLING)``. Thomas
-    algorithm without subtractions of large terms: with ``e_i`` the pivot
-    ``d_i`` minus ``a_i`` (``e_0 = 1``), ``r_i = a_i / (e_i + a_i)`` and
-    ``e_{i+1} = 1 + r_i * e_i``, all positive; the forward pass keeps the
-    weighted mean ``z_i = u_i + q_i * (z_{i-1} - u_i)`` (``q_i = 1 - 1 / e_i``)
-    and the backward pass ``v_i = z_i + r_i * (v_{i+1} - z_i)``. A constant
-    stays exactly constant and a zero weight exactly separates, for any
-    ``lam``. (OpenCV's pivot ``1 + a_{i-1} + a_i - a_{i-1} * r_{i-1}`` cancels
-    when the ``a`` are large.) Every divisor is ``>= 1``, so numpy's error
-    model (no division-by-zero check, which kept the loops from vectorising)
-    changes no result.
-
-    The inner loops run over the block's columns on row views, and the
-    previous row's result is carried in a vector of its own (``last``)
-    rather than read back from ``u``: with ``u`` both read and written in a
-    loop, LLVM's run-time overlap check sent every row to the scalar loop
-    (half the speed).
-    """
-    rows = u.shape[0]
-    n = j1 - j0
-    ratio = np.empty((rows, n), np.float32)
-    e = np.ones(n, np.float32)
-    last = u[0, j0:j1].copy()
-    one = np.float32(1.0)
-    cap = np.float32(MAX_COUPLING)
-    if rows > 1:
-        w_row, r_row = w[0, j0:j1], ratio[0]
-        for k in range(n):
-            a = min(lam * w_row[k], cap)
-            r_row[k] = a / (one + a)
-    for i in range(1, rows - 1):
-        u_row, w_row, r_prev, r_row = u[i, j0:j1], w[i, j0:j1], ratio[i - 1], ratio[i]
-        for k in range(n):
-            g = r_prev[k] * e[k]
-            ek = one + g
-            f = u_row[k]
-            z = f + (g / ek) * (last[k] - f)
-            u_row[k] = z
-            last[k] = z
-            a = min(lam * w_row[k], cap)
-            r_row[k] = a / (ek + a)
-            e[k] = ek
-    if rows > 1:
-        u_row, r_prev = u[rows - 1, j0:j1], ratio[rows - 2]
-        for k in range(n):
-            g = r_prev[k] * e[k]
-            f = u_row[k]
-            z = f + (g / (one + g)) * (last[k] - f)
-            u_row[k] = z
-            last[k] = z
-    for i in range(rows - 2, -1, -1):
-        u_row, r_row = u[i, j0:j1], ratio[i]
-        for k in range(n):
-            z = u_row[k]
-            v = z + r_row[k] * (last[k] - z)
-            u_row[k] = v
-            last[k] = v
-
-
-@njit
-def _solve_columns(u, w, lam, b0, b1):
-    """:func:`_sweep_columns` over the blocks ``b0:b1`` of ``_BLOCK`` columns of ``u``, one after the other."""
-    cols = u.shape[1]
-    for b in range(b0, b1):
-        _sweep_columns(u, w, lam, b * _BLOCK, min(cols, (b + 1) * _BLOCK))
+def _kernels():
+    """The solver's kernels: the C ones when built (:mod:`depthrefine._native`), else numba's (:mod:`._wls_jit`)."""
+    return kernels(__package__ + "._wls_jit")
 
 
 def _blocks(n: int) -> int:
@@ -156,80 +89,6 @@ def _color_lut(channels: int, sigma_color: float) -> np.ndarray:
     lut = np.exp(-np.sqrt(levels) / np.float32(sigma_color)).astype(np.float32)
     lut.flags.writeable = False
     return lut
-
-
-@njit(inline="always")
-def _color_distance2(a, b, j_a, j_b):
-    """Squared Euclidean distance of the colors ``a[j_a]`` and ``b[j_b]`` (rows of a uint8 guide), as int32."""
-    if a.shape[1] == 3:   # unrolled: the loop over the columns then vectorises
-        d0 = np.int32(a[j_a, 0]) - np.int32(b[j_b, 0])
-        d1 = np.int32(a[j_a, 1]) - np.int32(b[j_b, 1])
-        d2 = np.int32(a[j_a, 2]) - np.int32(b[j_b, 2])
-        return d0 * d0 + d1 * d1 + d2 * d2
-    total = np.int32(0)
-    for c in range(a.shape[1]):
-        d = np.int32(a[j_a, c]) - np.int32(b[j_b, c])
-        total += d * d
-    return total
-
-
-@njit
-def _color_weight_rows(guide, lut, wx, wy, i0, i1):
-    """``lut[|dc|**2]`` between horizontal (``wx``) and vertical (``wy``) neighbours, rows ``i0:i1``."""
-    rows, cols = guide.shape[:2]
-    for i in range(i0, i1):
-        row, out = guide[i], wx[i]
-        for j in range(cols - 1):
-            out[j] = lut[_color_distance2(row, row, j + 1, j)]
-        out[cols - 1] = 0.0
-        out = wy[i]
-        if i + 1 < rows:
-            below = guide[i + 1]
-            for j in range(cols):
-                out[j] = lut[_color_distance2(below, row, j, j)]
-        else:
-            out[:] = 0.0
-
-
-@njit
-def _edge_weight_rows(guide, lut, x, inv_sigma, wx, wy, i0, i1):
-    """:func:`_color_weight_rows` times :func:`_depth_weight_rows`' factor, rows ``i0:i1``.
-
-    Each row is made in two loops (the color weights, then the factor), which
-    vectorise; one loop doing both did not, and took twice their time.
-    """
-    rows, cols = x.shape
-    for i in range(i0, i1):
-        _color_weight_rows(guide, lut, wx, wy, i, i + 1)
-        x_row, out = x[i], wx[i]
-        for j in range(cols - 1):
-            out[j] *= expf32(-abs(x_row[j + 1] - x_row[j]) * inv_sigma)
-        if i + 1 < rows:
-            below, out = x[i + 1], wy[i]
-            for j in range(cols):
-                out[j] *= expf32(-abs(below[j] - x_row[j]) * inv_sigma)
-
-
-@njit
-def _depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, i0, i1):
-    """``w * exp(-|dx| * inv_sigma)`` for horizontal and vertical neighbours of ``x``, rows ``i0:i1``.
-
-    ``exp`` is :func:`~depthrefine._numba.expf32` (glibc's ``expf``, bit for
-    bit, but vectorised); each loop runs over a row's columns.
-    """
-    rows, cols = x.shape
-    for i in range(i0, i1):
-        x_row, w_row, out_row = x[i], wx[i], out_x[i]
-        for j in range(cols - 1):
-            out_row[j] = w_row[j] * expf32(-abs(x_row[j + 1] - x_row[j]) * inv_sigma)
-        out_row[cols - 1] = 0.0
-        out_row = out_y[i]
-        if i + 1 < rows:
-            below, w_row = x[i + 1], wy[i]
-            for j in range(cols):
-                out_row[j] = w_row[j] * expf32(-abs(below[j] - x_row[j]) * inv_sigma)
-        else:
-            out_row[:] = 0.0
 
 
 def _guide(guide: np.ndarray) -> np.ndarray:
@@ -255,7 +114,7 @@ def color_weights(guide: np.ndarray, sigma_color: float) -> tuple[np.ndarray, np
     lut = _color_lut(guide.shape[2], sigma_color)
     wx = np.empty(guide.shape[:2], np.float32)
     wy = np.empty(guide.shape[:2], np.float32)
-    run_split(_color_weight_rows, guide.shape[0], guide, lut, wx, wy, parallel=_parallel(guide.shape))
+    run_split(_kernels().color_weight_rows, guide.shape[0], guide, lut, wx, wy, parallel=_parallel(guide.shape))
     return wx, wy
 
 
@@ -268,7 +127,7 @@ def depth_weights(x: np.ndarray, sigma: float, wx: np.ndarray, wy: np.ndarray) -
     sigma = check_number("sigma", sigma, positive=True)
     out_x = np.empty_like(wx)
     out_y = np.empty_like(wy)
-    run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
+    run_split(_kernels().depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
               parallel=_parallel(x.shape))
     return out_x, out_y
 
@@ -298,7 +157,7 @@ def edge_weights(guide: np.ndarray, sigma_color: float, x: np.ndarray, sigma: fl
     sigma = check_number("sigma", sigma, positive=True)
     wx = np.empty(x.shape, np.float32)
     wy = np.empty(x.shape, np.float32)
-    run_split(_edge_weight_rows, x.shape[0], guide, lut, x, np.float32(1.0 / sigma), wx, wy,
+    run_split(_kernels().edge_weight_rows, x.shape[0], guide, lut, x, np.float32(1.0 / sigma), wx, wy,
               parallel=_parallel(x.shape))
     return wx, wy
 
@@ -447,7 +306,7 @@ def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma:
     if u.size == 0:
         return u
     wx, wy = _scratch("weights", u.shape)
-    run_split(_edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
+    run_split(_kernels().edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
               parallel=_parallel(u.shape))
     return _solve(u, wx, wy, lam32, iterations, attenuation32)
 
@@ -490,7 +349,7 @@ def smooth_with_gradient(x: np.ndarray, wx: np.ndarray, wy: np.ndarray, sigma: f
     if x.size == 0:
         return x
     out_x, out_y = _scratch("weights", x.shape)
-    run_split(_depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
+    run_split(_kernels().depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
               parallel=_parallel(x.shape))
     return _solve(x, out_x, out_y, lam32, iterations, attenuation32)
 
@@ -502,7 +361,7 @@ def _solve(u: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam32: np.float32, ite
     rows, cols = u.shape
     for _ in range(iterations):
         run_split(_solve_rows, _blocks(rows), u, wx, lam32, parallel=parallel)
-        run_split(_solve_columns, _blocks(cols), u, wy, lam32, parallel=parallel)
+        run_split(_kernels().solve_columns, _blocks(cols), u, wy, lam32, _BLOCK, parallel=parallel)
         lam32 = np.float32(lam32 * attenuation32)
     return u
 
@@ -520,15 +379,13 @@ def _solve_rows(u: np.ndarray, wx: np.ndarray, lam32: np.float32, b0: int, b1: i
     import cv2
 
     rows, cols = u.shape
+    sweep_columns = _kernels().sweep_columns
     tile_u, tile_w = _scratch("tiles", (cols, _BLOCK))
     for b in range(b0, b1):
         i0, i1 = b * _BLOCK, min(rows, (b + 1) * _BLOCK)
         n = i1 - i0
         t_u = cv2.transpose(u[i0:i1], dst=tile_u[:, :n] if n == _BLOCK else None)
         t_w = cv2.transpose(wx[i0:i1], dst=tile_w[:, :n] if n == _BLOCK else None)
-        _sweep_columns(t_u, t_w, lam32, 0, n)
+        sweep_columns(t_u, t_w, lam32, 0, n)
         cv2.transpose(t_u, dst=u[i0:i1])
 
-
-# With a cold numba cache the first solve compiles the kernels above: say so, once, before it starts.
-note_first_compile(__name__, what="gbp's solver", seconds=FIRST_COMPILE_SECONDS)

@@ -1,0 +1,200 @@
+"""gbp's kernels compiled ahead of time (``kernels.c``, built at install), or numba's when they are not built.
+
+A fresh process that runs gbp through numba spends about half a second
+before its first kernel (numba's import and the set-up of its CPU target:
+``docs/speed.md``). The same kernels in plain C, compiled when the package is
+installed (``setup.py``), load in a millisecond. They are the numba kernels
+operation for operation and give the same bits (``tests/test_native.py``);
+numba's remain the reference and the fallback.
+
+:func:`kernels` gives a kernel module's functions: this package's C ones
+(called through ctypes, which releases the GIL around each call, so
+:func:`depthrefine._threads.run_split` runs their parts side by side) when
+the library is built, current and usable on this CPU, else the numba module
+itself. ``DEPTHREFINE_KERNELS=numba`` in the environment forces numba's.
+
+The wrappers below take the numba kernels' arguments, in their order, and
+check nothing: the modules that call them (``methods/_wls.py``,
+``methods/_resample.py``, ``methods/gbp/_offsets.py``) hand them checked,
+C-contiguous arrays of the right types.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import importlib
+import os
+import sys
+import threading
+from importlib.machinery import EXTENSION_SUFFIXES
+from pathlib import Path
+from types import ModuleType, SimpleNamespace
+
+import numpy as np
+
+__all__ = ["kernels", "library", "why_not"]
+
+#: The environment variable that chooses the kernels: ``numba`` forces numba's, anything else means "the C ones
+#: when built".
+ENV = "DEPTHREFINE_KERNELS"
+
+_lock = threading.Lock()
+_loaded: list = []          # [library or None, reason it is None]
+_c_int64, _c_float, _c_double, _p = ctypes.c_int64, ctypes.c_float, ctypes.c_double, ctypes.c_void_p
+_i = ctypes.c_ssize_t
+
+
+def _cpu_supports_build() -> bool:
+    """Whether this CPU runs the instructions the library was built with (AVX2 and FMA on x86-64 Linux)."""
+    if sys.platform != "linux" or os.uname().machine not in ("x86_64", "AMD64"):
+        return True             # built without extra instruction sets there (setup.py)
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as f:
+            for line in f:
+                if line.startswith("flags"):
+                    flags = set(line.split(":", 1)[1].split())
+                    return {"avx2", "fma"} <= flags
+    except OSError:
+        pass
+    return False
+
+
+def _find(here: Path = Path(__file__).parent) -> tuple[ctypes.CDLL | None, str]:
+    """The library built in the folder ``here`` and checked against its ``kernels.c``, or None and why not."""
+    built = [here / f"_kernels{suffix}" for suffix in EXTENSION_SUFFIXES if (here / f"_kernels{suffix}").exists()]
+    if not built:
+        return None, "not built (no C compiler when the package was installed?)"
+    if not _cpu_supports_build():
+        return None, "built for AVX2 and FMA, which this CPU lacks"
+    lib = ctypes.CDLL(str(built[0]))
+    source = here / "kernels.c"
+    lib.dr_source_hash.restype = ctypes.c_char_p
+    if source.exists() and lib.dr_source_hash().decode() != hashlib.sha256(source.read_bytes()).hexdigest():
+        return None, f"{built[0].name} was built from another kernels.c: reinstall (pip install -e .)"
+    _declare(lib)
+    return lib, ""
+
+
+def _declare(lib: ctypes.CDLL) -> None:
+    """The C functions' argument and result types."""
+    signatures = {
+        "dr_exp_f32": (_c_float, [_c_float]),
+        "dr_sweep_columns": (ctypes.c_int, [_p, _i, _p, _i, _i, _c_float, _i, _i]),
+        "dr_solve_columns": (ctypes.c_int, [_p, _p, _i, _i, _c_float, _i, _i, _i]),
+        "dr_color_weight_rows": (None, [_p, _i, _i, _i, _p, _p, _p, _i, _i]),
+        "dr_edge_weight_rows": (None, [_p, _i, _i, _i, _p, _p, _c_float, _p, _p, _i, _i]),
+        "dr_depth_weight_rows": (None, [_p, _i, _i, _c_float, _p, _p, _p, _p, _i, _i]),
+        "dr_enlarge_rows": (None, [_p, _i, _i, _p, _p, _p, _p, _i, _p, _p, _i, _i]),
+        "dr_clip_rows": (None, [_p, _i, _c_float, _c_float, _p, _p, _i, _p, _p, _i, _i]),
+        "dr_clip_toward_rows": (None, [_p, _i, _p, _p, _p, _i, _p, _p, _i, _i]),
+        "dr_search": (ctypes.c_int, [_p, _p, _p, _p, _p, _i, _i, _c_int64, _c_double, _p, _p, _p, _p, _i, _i]),
+    }
+    for name, (restype, argtypes) in signatures.items():
+        function = getattr(lib, name)
+        function.restype, function.argtypes = restype, argtypes
+
+
+def library() -> ctypes.CDLL | None:
+    """The built C library, or None (:func:`why_not` says why); loaded once per process."""
+    with _lock:
+        if not _loaded:
+            if os.environ.get(ENV, "").strip().lower() == "numba":
+                _loaded[:] = [None, f"{ENV}=numba"]
+            else:
+                try:
+                    _loaded[:] = list(_find())
+                except OSError as exc:      # a file that does not load here
+                    _loaded[:] = [None, f"does not load: {exc}"]
+        return _loaded[0]
+
+
+def why_not() -> str:
+    """Why :func:`library` is None ('' when it is not)."""
+    library()
+    return _loaded[1]
+
+
+def kernels(jit_module: str) -> ModuleType | SimpleNamespace:
+    """The kernels of the numba module ``jit_module`` (a full module name): the C ones when built, else that module.
+
+    Imports numba only when the C library is not there.
+    """
+    lib = library()
+    if lib is None:
+        return importlib.import_module(jit_module)
+    return _wrappers(lib)
+
+
+def _ptr(a: np.ndarray, dtype=np.float32, *, rows_strided: bool = False) -> int:
+    """The address of ``a``'s data, once it is checked to be ``dtype`` and C-contiguous (or, ``rows_strided``, its
+    elements contiguous within each row): a wrong array must raise here, never reach C."""
+    if a.dtype != dtype or not (a.flags.c_contiguous or rows_strided and a.ndim == 2 and a.strides[1] == a.itemsize
+                                and a.strides[0] % a.itemsize == 0 and a.strides[0] >= a.shape[1] * a.itemsize):
+        raise TypeError(f"depthrefine's C kernels take C-contiguous {np.dtype(dtype)} arrays; got {a.dtype}, "
+                        f"strides {a.strides}")
+    return a.__array_interface__["data"][0]
+
+
+def _check(status: int) -> None:
+    if status != 0:
+        raise MemoryError("depthrefine's C kernels could not allocate their scratch memory")
+
+
+_namespace: list[SimpleNamespace] = []
+
+
+def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
+    """The C kernels under the numba kernels' names and arguments."""
+    if _namespace:
+        return _namespace[0]
+
+    def sweep_columns(u, w, lam, j0, j1):
+        # u and w may be views of wider tiles: rows of `strides[0]` bytes, float32 elements side by side
+        _check(lib.dr_sweep_columns(_ptr(u, rows_strided=True), u.strides[0] // 4, _ptr(w, rows_strided=True),
+                                    w.strides[0] // 4, u.shape[0], float(lam), int(j0), int(j1)))
+
+    def solve_columns(u, w, lam, block, b0, b1):
+        if w.shape != u.shape:
+            raise TypeError(f"w must have u's shape {u.shape}; got {w.shape}")
+        _check(lib.dr_solve_columns(_ptr(u), _ptr(w), u.shape[0], u.shape[1], float(lam), int(block), int(b0),
+                                    int(b1)))
+
+    def color_weight_rows(guide, lut, wx, wy, i0, i1):
+        rows, cols, channels = guide.shape
+        lib.dr_color_weight_rows(_ptr(guide, np.uint8), rows, cols, channels, _ptr(lut), _ptr(wx), _ptr(wy),
+                                 int(i0), int(i1))
+
+    def edge_weight_rows(guide, lut, x, inv_sigma, wx, wy, i0, i1):
+        rows, cols, channels = guide.shape
+        lib.dr_edge_weight_rows(_ptr(guide, np.uint8), rows, cols, channels, _ptr(lut), _ptr(x), float(inv_sigma),
+                                _ptr(wx), _ptr(wy), int(i0), int(i1))
+
+    def depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, i0, i1):
+        lib.dr_depth_weight_rows(_ptr(x), x.shape[0], x.shape[1], float(inv_sigma), _ptr(wx), _ptr(wy),
+                                 _ptr(out_x), _ptr(out_y), int(i0), int(i1))
+
+    def enlarge_rows(x, s0, s1, s2, guide, lut, out, i0, i1):
+        lib.dr_enlarge_rows(_ptr(x), x.shape[0], x.shape[1], _ptr(s0, np.uint8), _ptr(s1, np.uint8),
+                            _ptr(s2, np.uint8), _ptr(guide, np.uint8), guide.shape[1], _ptr(lut), _ptr(out), int(i0),
+                            int(i1))
+
+    def clip_rows(x, low, high, lower, upper, rows, cols, i0, i1):
+        lib.dr_clip_rows(_ptr(x), x.shape[1], float(low), float(high), _ptr(lower), _ptr(upper), lower.shape[1],
+                         _ptr(rows, np.int32), _ptr(cols, np.int32), int(i0), int(i1))
+
+    def clip_toward_rows(x, weight, lower, upper, rows, cols, i0, i1):
+        lib.dr_clip_toward_rows(_ptr(x), x.shape[1], _ptr(weight), _ptr(lower), _ptr(upper), lower.shape[1],
+                                _ptr(rows, np.int32), _ptr(cols, np.int32), int(i0), int(i1))
+
+    def search(band, magnitude, gx, gy, edges, reach, peak_ratio, row_start, offsets, angles, found, i0, i1):
+        _check(lib.dr_search(_ptr(band, np.bool_), _ptr(magnitude), _ptr(gx), _ptr(gy), _ptr(edges), band.shape[0],
+                             band.shape[1], int(reach), float(peak_ratio), _ptr(row_start, np.int64),
+                             _ptr(offsets, np.float64), _ptr(angles, np.float64), _ptr(found, np.int64), int(i0),
+                             int(i1)))
+
+    _namespace.append(SimpleNamespace(
+        sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
+        edge_weight_rows=edge_weight_rows, depth_weight_rows=depth_weight_rows, enlarge_rows=enlarge_rows,
+        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, search=search, expf32=lib.dr_exp_f32))
+    return _namespace[0]

@@ -1,0 +1,248 @@
+"""gbp's kernels in C (``depthrefine._native``) give numba's bits, and a fresh gbp process needs no numba.
+
+The numba kernels (``methods/_wls_jit.py``, ``_resample_jit.py``,
+``gbp/_offsets_jit.py``) are the reference; each C kernel is run on the
+same arguments and compared bit for bit, on random inputs that reach every
+branch (borders, one-row and one-column images, odd and even sizes, 1, 3
+and 4 channels, zero and capped couplings, strided tiles). Skipped where
+the C library is not built (no compiler at install): gbp then runs numba's.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from depthrefine import _native
+
+lib = _native.library()
+needs_c = pytest.mark.skipif(lib is None, reason=f"depthrefine's C kernels: {_native.why_not()}")
+
+
+def _jit(name: str):
+    import importlib
+
+    return importlib.import_module(name)
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    """Equal bits (NaN included)."""
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def _both(kernel: str, module: str, make_args, part=None):
+    """Run numba's and C's ``kernel`` on fresh copies of ``make_args()``; returns both argument tuples after."""
+    c = _native.kernels("depthrefine.methods._wls_jit")   # the C namespace holds every kernel
+    args_jit, args_c = make_args(), make_args()
+    getattr(_jit(module), kernel)(*args_jit, *(part or ()))
+    getattr(c, kernel)(*args_c, *(part or ()))
+    return args_jit, args_c
+
+
+@needs_c
+def test_exp_of_a_float32_is_numbas_to_the_bit():
+    from depthrefine._numba import expf32
+
+    rng = np.random.default_rng(1)
+    xs = np.concatenate([rng.uniform(-110, 95, 3000), rng.normal(0, 2, 2000), -np.abs(rng.normal(0, 0.01, 500)),
+                         [0.0, -0.0, -np.inf, np.inf, np.nan, 88.72, 88.73, -103.28, -103.98, -104.0, -87.34,
+                          float.fromhex("0x1.62e42ep6"), -float.fromhex("0x1.9fe368p6"),
+                          -float.fromhex("0x1.9d1d9ep6")]]).astype(np.float32)
+    ours = np.array([_native.kernels("depthrefine.methods._wls_jit").expf32(float(x)) for x in xs], np.float32)
+    reference = np.array([expf32(x) for x in xs], np.float32)
+    assert _same(ours, reference)
+
+
+@needs_c
+def test_exp_over_millions_of_depth_steps_is_numbas():
+    """exp(-|dx| / sigma) as the depth weights take it (weights of 1): 8 million arguments from 0 to -110."""
+    rng = np.random.default_rng(2)
+    x = rng.uniform(0, 110, (2000, 2000)).astype(np.float32)
+    ones = np.ones_like(x)
+
+    def make():
+        return x, np.float32(1.0), ones, ones, np.empty_like(x), np.empty_like(x)
+
+    jit, c = _both("depth_weight_rows", "depthrefine.methods._wls_jit", make, (0, x.shape[0]))
+    assert _same(jit[4], c[4]) and _same(jit[5], c[5])
+
+
+@needs_c
+@pytest.mark.parametrize("rows", [1, 2, 3, 57])
+@pytest.mark.parametrize("lam", [0.0, 0.7, 250.0, 1e30])
+def test_the_sweep_on_a_strided_tile_is_numbas(rows, lam):
+    def make():
+        rng = np.random.default_rng(rows)
+        u = rng.normal(500, 80, (rows, 80)).astype(np.float32)
+        w = rng.random((rows, 80)).astype(np.float32)
+        w[rng.random(w.shape) < 0.2] = 0.0
+        return u[:, 5:69], w[:, 3:67], np.float32(lam)     # row strides wider than the rows, as the tiles
+
+    jit, c = _both("sweep_columns", "depthrefine.methods._wls_jit", make, (3, 61))
+    assert _same(np.ascontiguousarray(jit[0]), np.ascontiguousarray(c[0]))
+    assert _same(jit[0].base, c[0].base)                       # the columns outside 3:61 are untouched
+
+
+@needs_c
+@pytest.mark.parametrize("shape", [(1, 5), (40, 1), (70, 150), (129, 64)])
+def test_the_column_blocks_are_numbas(shape):
+    def make():
+        rng = np.random.default_rng(shape[1])
+        return (rng.normal(0, 1e3, shape).astype(np.float32), rng.random(shape).astype(np.float32),
+                np.float32(40.0), 64)
+
+    blocks = -(-shape[1] // 64)
+    jit, c = _both("solve_columns", "depthrefine.methods._wls_jit", make, (0, blocks))
+    assert _same(jit[0], c[0])
+
+
+@needs_c
+@pytest.mark.parametrize("channels", [1, 3, 4])
+@pytest.mark.parametrize("shape", [(1, 9), (9, 1), (31, 47)])
+def test_the_weights_are_numbas(channels, shape):
+    from depthrefine.methods._wls import _color_lut
+
+    rng = np.random.default_rng(channels)
+    guide = rng.integers(0, 256, (*shape, channels), dtype=np.uint8)
+    x = rng.normal(1000, 300, shape).astype(np.float32)
+    x[rng.random(shape) < 0.1] += 5000                          # jumps: exp far below 1, and underflow
+    lut = _color_lut(channels, 9.0)
+    wx0, wy0 = rng.random(shape).astype(np.float32), rng.random(shape).astype(np.float32)
+    rows = shape[0]
+
+    def empty():
+        return np.full(shape, np.nan, np.float32), np.full(shape, np.nan, np.float32)
+
+    jit, c = _both("color_weight_rows", "depthrefine.methods._wls_jit", lambda: (guide, lut, *empty()), (0, rows))
+    assert _same(jit[2], c[2]) and _same(jit[3], c[3])
+    for inv_sigma in (np.float32(1 / 7), np.float32(30.0)):
+        jit, c = _both("edge_weight_rows", "depthrefine.methods._wls_jit",
+                       lambda: (guide, lut, x, inv_sigma, *empty()), (0, rows))
+        assert _same(jit[4], c[4]) and _same(jit[5], c[5])
+        jit, c = _both("depth_weight_rows", "depthrefine.methods._wls_jit",
+                       lambda: (x, inv_sigma, wx0, wy0, *empty()), (0, rows))
+        assert _same(jit[4], c[4]) and _same(jit[5], c[5])
+
+
+@needs_c
+@pytest.mark.parametrize("shape", [(2, 2), (3, 5), (8, 8), (33, 50), (50, 33)])
+def test_the_guided_enlargement_is_numbas(shape):
+    import cv2
+
+    from depthrefine.methods._wls import _color_lut
+
+    H, W = shape
+    h, w = -(-H // 2), -(-W // 2)
+    rng = np.random.default_rng(H * W)
+    guide = rng.integers(0, 256, (H, W, 3), dtype=np.uint8)
+    small = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+    x = rng.normal(0, 100, (h, w)).astype(np.float32)
+    planes = cv2.split(small)
+    jit, c = _both("enlarge_rows", "depthrefine.methods._resample_jit",
+                   lambda: (x, *planes, guide, _color_lut(3, 12.0), np.full((H, W), np.nan, np.float32)), (0, H))
+    assert _same(jit[6], c[6])
+
+
+@needs_c
+def test_the_clips_are_numbas():
+    rng = np.random.default_rng(5)
+    shape, small = (37, 53), (10, 14)
+    x = rng.normal(0, 10, shape).astype(np.float32)
+    lower = rng.normal(-5, 3, small).astype(np.float32)
+    upper = lower + rng.random(small).astype(np.float32) * 8
+    rows = (np.arange(shape[0]) * small[0] // shape[0]).astype(np.int32)
+    cols = (np.arange(shape[1]) * small[1] // shape[1]).astype(np.int32)
+    weight = rng.random(shape).astype(np.float32)
+    jit, c = _both("clip_rows", "depthrefine.methods._resample_jit",
+                   lambda: (x.copy(), np.float32(-12), np.float32(9), lower, upper, rows, cols), (0, shape[0]))
+    assert _same(jit[0], c[0])
+    jit, c = _both("clip_toward_rows", "depthrefine.methods._resample_jit",
+                   lambda: (x.copy(), weight, lower, upper, rows, cols), (0, shape[0]))
+    assert _same(jit[0], c[0])
+
+
+@needs_c
+@pytest.mark.parametrize("reach", [2, 4, 9])
+def test_the_offset_search_is_numbas(reach):
+    import cv2
+
+    yy, xx = np.mgrid[:90, :120]
+    depth = np.where((xx - 55.3) ** 2 + (yy - 41.7) ** 2 < 30 ** 2, 900.0, 2000.0).astype(np.float32)
+    depth = cv2.GaussianBlur(depth, (0, 0), 2.0)
+    rng = np.random.default_rng(reach)
+    luma = np.where((xx - 58.1) ** 2 + (yy - 39.2) ** 2 < 29 ** 2, 60.0, 190.0) + rng.normal(0, 4, depth.shape)
+    luma = cv2.GaussianBlur(luma.astype(np.float32), (0, 0), 1.0)
+    gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
+    magnitude = np.sqrt(gx * gx + gy * gy)
+    edges = np.sqrt(cv2.Sobel(luma, cv2.CV_32F, 1, 0) ** 2 + cv2.Sobel(luma, cv2.CV_32F, 0, 1) ** 2)
+    band = magnitude > 100
+    per_row = np.count_nonzero(band, axis=1)
+    row_start = np.concatenate([[0], np.cumsum(per_row)[:-1]]).astype(np.int64)
+    total = int(per_row.sum())
+
+    def make():
+        return (band, magnitude, gx, gy, edges, reach, 1.5, row_start, np.full(total, np.nan),
+                np.full(total, np.nan), np.zeros(band.shape[0], np.int64))
+
+    jit, c = _both("search", "depthrefine.methods.gbp._offsets_jit", make, (0, band.shape[0]))
+    assert jit[10].sum() > 50                                   # the search found edges
+    for a, b in zip(jit[8:], c[8:]):
+        assert _same(a, b)
+
+
+@needs_c
+def test_a_wrong_array_is_refused_before_it_reaches_c():
+    c = _native.kernels("depthrefine.methods._wls_jit")
+    x = np.zeros((4, 6), np.float32)
+    with pytest.raises(TypeError, match="C-contiguous float32"):
+        c.depth_weight_rows(x.astype(np.float64), np.float32(1), x, x, x, x, 0, 4)
+    with pytest.raises(TypeError, match="C-contiguous float32"):
+        c.depth_weight_rows(x[:, ::2], np.float32(1), x, x, x, x, 0, 4)
+
+
+@needs_c
+def test_a_build_from_another_source_is_not_used(tmp_path):
+    folder = Path(_native.__file__).parent
+    built = next(folder.glob("_kernels*"))
+    shutil.copy(built, tmp_path / built.name)
+    source = (folder / "kernels.c").read_text()
+    (tmp_path / "kernels.c").write_text(source)
+    assert _native._find(tmp_path)[0] is not None
+    (tmp_path / "kernels.c").write_text(source + "\n/* changed */\n")
+    found, why = _native._find(tmp_path)
+    assert found is None and "reinstall" in why
+
+
+def _fresh(code: str, **env) -> str:
+    run_env = {k: v for k, v in os.environ.items() if k != _native.ENV}
+    run_env.update(env)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=run_env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    return out.stdout.strip()
+
+
+_REFINE = ("import sys, numpy as np, depthrefine; "
+           "d = np.random.default_rng(0).normal(1000, 5, (24, 32)).astype(np.float32); d[:, 16:] += 500; "
+           "g = np.zeros((96, 128, 3), np.uint8); g[:, 64:] = 200; "
+           "out = depthrefine.refine(d, g, method='gbp'); "
+           "print('numba' in sys.modules, out.shape, float(out[50, 20]), float(out[50, 100]))")
+
+
+@needs_c
+def test_gbp_in_a_fresh_process_runs_without_numba_and_gives_numbas_result():
+    native = _fresh(_REFINE).split(" ", 1)
+    forced = _fresh(_REFINE, DEPTHREFINE_KERNELS="numba").split(" ", 1)
+    assert native[0] == "False" and forced[0] == "True"
+    assert native[1] == forced[1]
+
+
+def test_the_kernels_are_numbas_when_asked_for():
+    assert _fresh("from depthrefine import _native; k = _native.kernels('depthrefine.methods._wls_jit'); "
+                  "print(k.__name__, _native.why_not())", DEPTHREFINE_KERNELS="numba") == \
+        "depthrefine.methods._wls_jit DEPTHREFINE_KERNELS=numba"
