@@ -123,7 +123,7 @@ else:
 from depthrefine.methods import _wls
 x = numpy.zeros((4, 4), numpy.float32)
 _wls.smooth(x, x, x, 1.0)
-stages["the first compiled kernel (numba: its target set-up, cache load)"] = time.perf_counter() - t
+stages["the first kernel call (with numba: its target set-up, cache load)"] = time.perf_counter() - t
 stages["kernels"] = "C" if _native.library() is not None else "numba (" + _native.why_not() + ")"
 stages["scipy.ndimage imported by the refine"] = None
 t = time.perf_counter()
