@@ -197,6 +197,21 @@ def test_the_offset_search_is_numbas(reach):
 
 
 @needs_c
+def test_the_gradient_magnitude_is_numpys_expression_to_the_bit():
+    from depthrefine.methods.gbp.fattening import _hypot
+
+    rng = np.random.default_rng(8)
+    x = (rng.normal(0, 1, (301, 413)) * 10.0 ** rng.integers(-20, 20, (301, 413))).astype(np.float32)
+    y = rng.normal(0, 300, x.shape).astype(np.float32)
+    x[0, :6], y[0, :6] = [0, -0.0, np.inf, 3e19, 1e-23, np.nan], [0, 0, 1, 3e19, 1e-23, 1]
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        reference = x * x
+        reference += y * y
+        reference = np.sqrt(reference)
+        assert _same(_hypot(x, y), reference)
+
+
+@needs_c
 def test_a_wrong_array_is_refused_before_it_reaches_c():
     c = _native.kernels("depthrefine.methods._wls_jit")
     x = np.zeros((4, 6), np.float32)

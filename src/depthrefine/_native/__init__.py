@@ -88,6 +88,7 @@ def _declare(lib: ctypes.CDLL) -> None:
         "dr_enlarge_rows": (None, [_p, _i, _i, _p, _p, _p, _p, _i, _p, _p, _i, _i]),
         "dr_clip_rows": (None, [_p, _i, _c_float, _c_float, _p, _p, _i, _p, _p, _i, _i]),
         "dr_clip_toward_rows": (None, [_p, _i, _p, _p, _p, _i, _p, _p, _i, _i]),
+        "dr_hypot_rows": (None, [_p, _p, _p, _i, _i, _i]),
         "dr_search": (ctypes.c_int, [_p, _p, _p, _p, _p, _i, _i, _c_int64, _c_double, _p, _p, _p, _p, _i, _i]),
     }
     for name, (restype, argtypes) in signatures.items():
@@ -120,10 +121,15 @@ def kernels(jit_module: str) -> ModuleType | SimpleNamespace:
 
     Imports numba only when the C library is not there.
     """
+    c = c_kernels()
+    return importlib.import_module(jit_module) if c is None else c
+
+
+def c_kernels() -> SimpleNamespace | None:
+    """The C kernels under the numba kernels' names and arguments (and ``hypot_rows``, whose fallback is numpy's
+    expression), or None when the library is not there."""
     lib = library()
-    if lib is None:
-        return importlib.import_module(jit_module)
-    return _wrappers(lib)
+    return None if lib is None else _wrappers(lib)
 
 
 def _ptr(a: np.ndarray, dtype=np.float32, *, rows_strided: bool = False) -> int:
@@ -187,6 +193,11 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
         lib.dr_clip_toward_rows(_ptr(x), x.shape[1], _ptr(weight), _ptr(lower), _ptr(upper), lower.shape[1],
                                 _ptr(rows, np.int32), _ptr(cols, np.int32), int(i0), int(i1))
 
+    def hypot_rows(x, y, out, i0, i1):
+        if not x.shape == y.shape == out.shape:
+            raise TypeError(f"x, y and out must have one shape; got {x.shape}, {y.shape}, {out.shape}")
+        lib.dr_hypot_rows(_ptr(x), _ptr(y), _ptr(out), x.shape[1], int(i0), int(i1))
+
     def search(band, magnitude, gx, gy, edges, reach, peak_ratio, row_start, offsets, angles, found, i0, i1):
         _check(lib.dr_search(_ptr(band, np.bool_), _ptr(magnitude), _ptr(gx), _ptr(gy), _ptr(edges), band.shape[0],
                              band.shape[1], int(reach), float(peak_ratio), _ptr(row_start, np.int64),
@@ -196,5 +207,5 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
     _namespace.append(SimpleNamespace(
         sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
         edge_weight_rows=edge_weight_rows, depth_weight_rows=depth_weight_rows, enlarge_rows=enlarge_rows,
-        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, search=search, expf32=lib.dr_exp_f32))
+        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, search=search, expf32=lib.dr_exp_f32))
     return _namespace[0]

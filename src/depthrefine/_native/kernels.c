@@ -348,6 +348,22 @@ EXPORT void dr_clip_toward_rows(float *x, index_t cols_x, const float *weight, c
                         upper + (index_t)rows[i] * bound_cols, cols);
 }
 
+/* Rows i0:i1 of out = sqrt(x * x + y * y) (rows of cols floats), each operation rounded to float32 as numpy's
+ * float32 x * x, += y * y and sqrt do (fattening._hypot, which runs where this library is not built). */
+static void hypot_row(float *restrict out, const float *restrict x, const float *restrict y, index_t n)
+{
+    for (index_t j = 0; j < n; j++) {
+        float s = x[j] * x[j];
+        s += y[j] * y[j];
+        out[j] = sqrtf(s);
+    }
+}
+
+EXPORT void dr_hypot_rows(const float *x, const float *y, float *out, index_t cols, index_t i0, index_t i1)
+{
+    for (index_t i = i0; i < i1; i++) hypot_row(out + i * cols, x + i * cols, y + i * cols, cols);
+}
+
 /* ---- step 1b's per-pixel search (methods/gbp/_offsets_jit.py) ---- */
 
 /* image (rows x cols) at (x, y), bilinear, the border replicated; as numba types it: the differences of two
