@@ -42,7 +42,8 @@ except ImportError:  # run as a script from benchmarks/
 
 #: Short names of the inputs of :data:`bench_speed.INPUTS`.
 SHORT = {"thesis": "thesis geometry 176x144 x7 -> 1232x1008", "art4": "Middlebury Art x4 (344x272 -> 1376x1088)",
-         "art8": "Middlebury Art x8 (172x136 -> 1376x1088)", "art16": "Middlebury Art x16 (86x68 -> 1376x1088)"}
+         "art8": "Middlebury Art x8 (172x136 -> 1376x1088)", "art16": "Middlebury Art x16 (86x68 -> 1376x1088)",
+         "kinect": "Azure Kinect NFOV on 720p (640x360 -> 1280x720)"}
 
 #: (module, function names) wrapped in timers; a name missing from a module is skipped.
 STEPS = {

@@ -23,7 +23,7 @@ def fill_invalid_nearest(depth: np.ndarray) -> np.ndarray:
         return depth.copy()
     from scipy import ndimage   # only for holes: importing it costs about half a second
 
-    _, (ir, ic) = ndimage.distance_transform_edt(~valid, return_indices=True)
+    ir, ic = ndimage.distance_transform_edt(~valid, return_distances=False, return_indices=True)  # no float64 map
     return depth[ir, ic]
 
 
@@ -72,10 +72,11 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
         return invalid
     reach = ENCLOSED_REACH * max(depth.shape)
     rows = np.asarray(depth)
-    values = np.stack([_nearest_along_rows(rows, reach),                         # to the left
-                       _nearest_along_rows(rows[:, ::-1], reach)[:, ::-1],       # to the right
-                       _nearest_along_rows(rows.T, reach).T,                     # above
-                       _nearest_along_rows(rows.T[:, ::-1], reach)[:, ::-1].T])  # below                       # (4, H, W): the depth seen each way, NaN beyond reach
+    values = np.empty((4, *rows.shape), rows.dtype)         # the depth seen each way, NaN beyond reach
+    values[0] = _nearest_along_rows(rows, reach)                                 # to the left
+    values[1] = _nearest_along_rows(rows[:, ::-1], reach)[:, ::-1]               # to the right
+    values[2] = _nearest_along_rows(rows.T, reach).T                             # above
+    values[3] = _nearest_along_rows(rows.T[:, ::-1], reach)[:, ::-1].T           # below
     with np.errstate(invalid="ignore"):
         complete = np.isfinite(values).all(axis=0)
         low, high = values.min(axis=0), values.max(axis=0)
@@ -151,9 +152,9 @@ def _nearest_along_rows(depth: np.ndarray, reach: float) -> np.ndarray:
     """Per pixel, the depth of the nearest valid pixel at or to its left within ``reach`` pixels (NaN if none)."""
     rows, cols = depth.shape
     valid = np.isfinite(depth)
-    column = np.where(valid, np.arange(cols)[None, :], -1)
-    last = np.maximum.accumulate(column, axis=1)
-    found = (last >= 0) & (np.arange(cols)[None, :] - last <= reach)
+    at = np.arange(cols, dtype=np.int32)[None, :]        # int32 column numbers: half numpy's default int64
+    last = np.maximum.accumulate(np.where(valid, at, np.int32(-1)), axis=1)
+    found = (last >= 0) & (at - last <= reach)
     picked = depth[np.arange(rows)[:, None], np.maximum(last, 0)]
     return np.where(found, picked, np.nan)
 
