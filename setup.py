@@ -34,5 +34,6 @@ setup(ext_modules=[Extension(
     sources=[str(SOURCE)],
     define_macros=[("DEPTHREFINE_KERNELS_SOURCE", '"%s"' % hashlib.sha256(SOURCE.read_bytes()).hexdigest())],
     extra_compile_args=compile_args(),
+    libraries=[] if sys.platform == "win32" else ["m"],   # atan2f, sqrtf, fma: not only through Python's own libm
     optional=True,
 )])

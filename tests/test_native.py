@@ -36,12 +36,16 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-def _both(kernel: str, module: str, make_args, part=None):
-    """Run numba's and C's ``kernel`` on fresh copies of ``make_args()``; returns both argument tuples after."""
+def _both(kernel: str, module: str, make_args, part):
+    """Run numba's ``kernel`` over the range ``part`` and C's over it in two pieces (as two threads would), on fresh
+    copies of ``make_args()``; returns both argument tuples after."""
     c = _native.kernels("depthrefine.methods._wls_jit")   # the C namespace holds every kernel
     args_jit, args_c = make_args(), make_args()
-    getattr(_jit(module), kernel)(*args_jit, *(part or ()))
-    getattr(c, kernel)(*args_c, *(part or ()))
+    getattr(_jit(module), kernel)(*args_jit, *part)
+    start, stop = part
+    middle = (start + stop + 1) // 2
+    for piece in ((start, middle), (middle, stop)):
+        getattr(c, kernel)(*args_c, *piece)
     return args_jit, args_c
 
 
@@ -131,8 +135,9 @@ def test_the_weights_are_numbas(channels, shape):
 
 
 @needs_c
-@pytest.mark.parametrize("shape", [(2, 2), (3, 5), (8, 8), (33, 50), (50, 33)])
-def test_the_guided_enlargement_is_numbas(shape):
+@pytest.mark.parametrize("sigma", [12.0, 0.3])       # 0.3: most colors' likeness underflows, the bilinear fallback
+@pytest.mark.parametrize("shape", [(1, 1), (1, 2), (2, 1), (2, 2), (3, 5), (8, 8), (33, 50), (50, 33)])
+def test_the_guided_enlargement_is_numbas(shape, sigma):
     import cv2
 
     from depthrefine.methods._wls import _color_lut
@@ -145,7 +150,7 @@ def test_the_guided_enlargement_is_numbas(shape):
     x = rng.normal(0, 100, (h, w)).astype(np.float32)
     planes = cv2.split(small)
     jit, c = _both("enlarge_rows", "depthrefine.methods._resample_jit",
-                   lambda: (x, *planes, guide, _color_lut(3, 12.0), np.full((H, W), np.nan, np.float32)), (0, H))
+                   lambda: (x, *planes, guide, _color_lut(3, sigma), np.full((H, W), np.nan, np.float32)), (0, H))
     assert _same(jit[6], c[6])
 
 
@@ -156,20 +161,28 @@ def test_the_clips_are_numbas():
     x = rng.normal(0, 10, shape).astype(np.float32)
     lower = rng.normal(-5, 3, small).astype(np.float32)
     upper = lower + rng.random(small).astype(np.float32) * 8
+    # ties, signed zeros and NaN bounds, where the order of min and max's arguments shows
+    x[0, :6] = [0.0, -0.0, 0.0, -0.0, 3.0, 5.0]
+    lower[0, :2], upper[0, :2] = [-0.0, 0.0], [0.0, -0.0]
+    lower[1, 0], upper[1, 1] = np.nan, np.nan
+    x[x.shape[0] // 10 + 1, :8] = np.round(x[x.shape[0] // 10 + 1, :8])
+    lower[1:3] = np.round(lower[1:3])
     rows = (np.arange(shape[0]) * small[0] // shape[0]).astype(np.int32)
     cols = (np.arange(shape[1]) * small[1] // shape[1]).astype(np.int32)
     weight = rng.random(shape).astype(np.float32)
-    jit, c = _both("clip_rows", "depthrefine.methods._resample_jit",
-                   lambda: (x.copy(), np.float32(-12), np.float32(9), lower, upper, rows, cols), (0, shape[0]))
-    assert _same(jit[0], c[0])
+    for low, high in ((-12, 9), (0.0, 9), (-12, -0.0)):          # the signed zeros of x against the global bounds
+        jit, c = _both("clip_rows", "depthrefine.methods._resample_jit",
+                       lambda: (x.copy(), np.float32(low), np.float32(high), lower, upper, rows, cols), (0, shape[0]))
+        assert _same(jit[0], c[0])
     jit, c = _both("clip_toward_rows", "depthrefine.methods._resample_jit",
                    lambda: (x.copy(), weight, lower, upper, rows, cols), (0, shape[0]))
     assert _same(jit[0], c[0])
 
 
 @needs_c
+@pytest.mark.parametrize("quantum", [0.0, 40.0, 400.0])   # values rounded to steps: profiles and ridges hold ties
 @pytest.mark.parametrize("reach", [2, 4, 9])
-def test_the_offset_search_is_numbas(reach):
+def test_the_offset_search_is_numbas(reach, quantum):
     import cv2
 
     yy, xx = np.mgrid[:90, :120]
@@ -181,6 +194,8 @@ def test_the_offset_search_is_numbas(reach):
     gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
     magnitude = np.sqrt(gx * gx + gy * gy)
     edges = np.sqrt(cv2.Sobel(luma, cv2.CV_32F, 1, 0) ** 2 + cv2.Sobel(luma, cv2.CV_32F, 0, 1) ** 2)
+    if quantum:
+        magnitude, edges = (np.round(a / quantum).astype(np.float32) * np.float32(quantum) for a in (magnitude, edges))
     band = magnitude > 100
     per_row = np.count_nonzero(band, axis=1)
     row_start = np.concatenate([[0], np.cumsum(per_row)[:-1]]).astype(np.int64)
@@ -242,11 +257,11 @@ def _fresh(code: str, **env) -> str:
     return out.stdout.strip()
 
 
-_REFINE = ("import sys, numpy as np, depthrefine; "
-           "d = np.random.default_rng(0).normal(1000, 5, (24, 32)).astype(np.float32); d[:, 16:] += 500; "
-           "g = np.zeros((96, 128, 3), np.uint8); g[:, 64:] = 200; "
-           "out = depthrefine.refine(d, g, method='gbp'); "
-           "print('numba' in sys.modules, out.shape, float(out[50, 20]), float(out[50, 100]))")
+_REFINE = ("import hashlib, sys, numpy as np, depthrefine; "       # 384x512 output: the kernels run on two threads
+           "from depthrefine.bench.synthetic import make_scene; "
+           "s = make_scene((384, 512), 4, n_objects=4, seed=5, color_noise_std=3.0, shading=0.2); "
+           "outs = [depthrefine.refine(s.depth_lr, s.rgb_hr, method=m) for m in ('gbp', 'gbp-fast')]; "
+           "print('numba' in sys.modules, [hashlib.sha256(o.tobytes()).hexdigest() for o in outs])")
 
 
 @needs_c
@@ -261,3 +276,29 @@ def test_the_kernels_are_numbas_when_asked_for():
     assert _fresh("from depthrefine import _native; k = _native.kernels('depthrefine.methods._wls_jit'); "
                   "print(k.__name__, _native.why_not())", DEPTHREFINE_KERNELS="numba") == \
         "depthrefine.methods._wls_jit DEPTHREFINE_KERNELS=numba"
+
+
+@needs_c
+def test_a_build_with_other_signatures_is_not_used(monkeypatch):
+    monkeypatch.setattr(_native, "ABI", _native.ABI + 1)
+    found, why = _native._find()
+    assert found is None and "other signatures" in why
+
+
+def test_a_library_that_fails_to_load_falls_back_to_numba(monkeypatch):
+    def broken(*args):
+        raise AttributeError("undefined symbol: dr_exp_f32")
+
+    monkeypatch.setattr(_native, "_find", broken)
+    monkeypatch.setattr(_native, "_loaded", [])
+    monkeypatch.delenv(_native.ENV, raising=False)
+    assert _native.library() is None and "undefined symbol" in _native.why_not()
+    assert _native.kernels("depthrefine.methods._wls_jit").__name__ == "depthrefine.methods._wls_jit"
+
+
+@needs_c
+def test_a_python_float_is_refused_where_numba_would_compile_for_float64():
+    c = _native.kernels("depthrefine.methods._wls_jit")
+    x = np.zeros((4, 6), np.float32)
+    with pytest.raises(TypeError, match="np.float32 scalars"):
+        c.depth_weight_rows(x, 0.5, x, x, x.copy(), x.copy(), 0, 4)

@@ -39,6 +39,9 @@ __all__ = ["kernels", "library", "why_not"]
 #: when built".
 ENV = "DEPTHREFINE_KERNELS"
 
+#: The C functions' signatures this module calls: kernels.c's DEPTHREFINE_KERNELS_ABI must say the same.
+ABI = 1
+
 _lock = threading.Lock()
 _loaded: list = []          # [library or None, reason it is None]
 _c_int64, _c_float, _c_double, _p = ctypes.c_int64, ctypes.c_float, ctypes.c_double, ctypes.c_void_p
@@ -72,6 +75,8 @@ def _find(here: Path = Path(__file__).parent) -> tuple[ctypes.CDLL | None, str]:
     lib.dr_source_hash.restype = ctypes.c_char_p
     if source.exists() and lib.dr_source_hash().decode() != hashlib.sha256(source.read_bytes()).hexdigest():
         return None, f"{built[0].name} was built from another kernels.c: reinstall (pip install -e .)"
+    if lib.dr_abi_version() != ABI:
+        return None, f"{built[0].name} has other signatures (ABI {lib.dr_abi_version()}, not {ABI}): reinstall"
     _declare(lib)
     return lib, ""
 
@@ -80,6 +85,7 @@ def _declare(lib: ctypes.CDLL) -> None:
     """The C functions' argument and result types."""
     signatures = {
         "dr_exp_f32": (_c_float, [_c_float]),
+        "dr_abi_version": (ctypes.c_int, []),
         "dr_sweep_columns": (ctypes.c_int, [_p, _i, _p, _i, _i, _c_float, _i, _i]),
         "dr_solve_columns": (ctypes.c_int, [_p, _p, _i, _i, _c_float, _i, _i, _i]),
         "dr_color_weight_rows": (None, [_p, _i, _i, _i, _p, _p, _p, _i, _i]),
@@ -105,7 +111,7 @@ def library() -> ctypes.CDLL | None:
             else:
                 try:
                     _loaded[:] = list(_find())
-                except OSError as exc:      # a file that does not load here
+                except Exception as exc:  # noqa: BLE001 - a file that does not load, or lacks a function: numba's
                     _loaded[:] = [None, f"does not load: {exc}"]
         return _loaded[0]
 
@@ -142,6 +148,13 @@ def _ptr(a: np.ndarray, dtype=np.float32, *, rows_strided: bool = False) -> int:
     return a.__array_interface__["data"][0]
 
 
+def _f32(value) -> float:
+    """A float32 argument's value; anything else raises (numba would compile the kernel for float64 instead)."""
+    if not isinstance(value, np.float32):
+        raise TypeError(f"depthrefine's C kernels take np.float32 scalars where numba's got them; got {type(value)}")
+    return float(value)
+
+
 def _check(status: int) -> None:
     if status != 0:
         raise MemoryError("depthrefine's C kernels could not allocate their scratch memory")
@@ -158,12 +171,12 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
     def sweep_columns(u, w, lam, j0, j1):
         # u and w may be views of wider tiles: rows of `strides[0]` bytes, float32 elements side by side
         _check(lib.dr_sweep_columns(_ptr(u, rows_strided=True), u.strides[0] // 4, _ptr(w, rows_strided=True),
-                                    w.strides[0] // 4, u.shape[0], float(lam), int(j0), int(j1)))
+                                    w.strides[0] // 4, u.shape[0], _f32(lam), int(j0), int(j1)))
 
     def solve_columns(u, w, lam, block, b0, b1):
         if w.shape != u.shape:
             raise TypeError(f"w must have u's shape {u.shape}; got {w.shape}")
-        _check(lib.dr_solve_columns(_ptr(u), _ptr(w), u.shape[0], u.shape[1], float(lam), int(block), int(b0),
+        _check(lib.dr_solve_columns(_ptr(u), _ptr(w), u.shape[0], u.shape[1], _f32(lam), int(block), int(b0),
                                     int(b1)))
 
     def color_weight_rows(guide, lut, wx, wy, i0, i1):
@@ -173,11 +186,11 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
 
     def edge_weight_rows(guide, lut, x, inv_sigma, wx, wy, i0, i1):
         rows, cols, channels = guide.shape
-        lib.dr_edge_weight_rows(_ptr(guide, np.uint8), rows, cols, channels, _ptr(lut), _ptr(x), float(inv_sigma),
+        lib.dr_edge_weight_rows(_ptr(guide, np.uint8), rows, cols, channels, _ptr(lut), _ptr(x), _f32(inv_sigma),
                                 _ptr(wx), _ptr(wy), int(i0), int(i1))
 
     def depth_weight_rows(x, inv_sigma, wx, wy, out_x, out_y, i0, i1):
-        lib.dr_depth_weight_rows(_ptr(x), x.shape[0], x.shape[1], float(inv_sigma), _ptr(wx), _ptr(wy),
+        lib.dr_depth_weight_rows(_ptr(x), x.shape[0], x.shape[1], _f32(inv_sigma), _ptr(wx), _ptr(wy),
                                  _ptr(out_x), _ptr(out_y), int(i0), int(i1))
 
     def enlarge_rows(x, s0, s1, s2, guide, lut, out, i0, i1):
@@ -186,7 +199,7 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
                             int(i1))
 
     def clip_rows(x, low, high, lower, upper, rows, cols, i0, i1):
-        lib.dr_clip_rows(_ptr(x), x.shape[1], float(low), float(high), _ptr(lower), _ptr(upper), lower.shape[1],
+        lib.dr_clip_rows(_ptr(x), x.shape[1], _f32(low), _f32(high), _ptr(lower), _ptr(upper), lower.shape[1],
                          _ptr(rows, np.int32), _ptr(cols, np.int32), int(i0), int(i1))
 
     def clip_toward_rows(x, weight, lower, upper, rows, cols, i0, i1):

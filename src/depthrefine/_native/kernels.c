@@ -25,6 +25,13 @@
 #define DEPTHREFINE_KERNELS_SOURCE ""
 #endif
 
+/* The functions' signatures, checked by the loader (depthrefine._native.ABI): raise it with any change of them. */
+#define DEPTHREFINE_KERNELS_ABI 1
+
+#if defined(_MSC_VER) && !defined(__clang__)
+#define restrict __restrict     /* MSVC knows C99's restrict only with /std:c11 */
+#endif
+
 #if defined(_WIN32)
 #define EXPORT __declspec(dllexport)
 #else
@@ -43,6 +50,7 @@ static inline index_t min_i(index_t a, index_t b) { return b < a ? b : a; }
 
 /* The hash of this file the package was built from (setup.py), so that a stale build is not used. */
 EXPORT const char *dr_source_hash(void) { return DEPTHREFINE_KERNELS_SOURCE; }
+EXPORT int dr_abi_version(void) { return DEPTHREFINE_KERNELS_ABI; }
 
 /* ---- exp of a float32 as glibc computes it (depthrefine._numba.expf32) ---- */
 
@@ -196,6 +204,7 @@ static inline int32_t color_distance2(const uint8_t *a, const uint8_t *b, index_
 EXPORT void dr_color_weight_rows(const uint8_t *guide, index_t rows, index_t cols, index_t channels,
                                  const float *lut, float *wx, float *wy, index_t i0, index_t i1)
 {
+    if (cols <= 0) return;
     for (index_t i = i0; i < i1; i++) {
         const uint8_t *restrict row = guide + i * cols * channels;
         float *restrict out = wx + i * cols;
@@ -225,6 +234,7 @@ EXPORT void dr_color_weight_rows(const uint8_t *guide, index_t rows, index_t col
 EXPORT void dr_edge_weight_rows(const uint8_t *guide, index_t rows, index_t cols, index_t channels, const float *lut,
                                 const float *x, float inv_sigma, float *wx, float *wy, index_t i0, index_t i1)
 {
+    if (cols <= 0) return;
     for (index_t i = i0; i < i1; i++) {
         dr_color_weight_rows(guide, rows, cols, channels, lut, wx, wy, i, i + 1);
         const float *restrict x_row = x + i * cols;
@@ -242,6 +252,7 @@ EXPORT void dr_edge_weight_rows(const uint8_t *guide, index_t rows, index_t cols
 EXPORT void dr_depth_weight_rows(const float *x, index_t rows, index_t cols, float inv_sigma, const float *wx,
                                  const float *wy, float *out_x, float *out_y, index_t i0, index_t i1)
 {
+    if (cols <= 0) return;
     for (index_t i = i0; i < i1; i++) {
         const float *restrict x_row = x + i * cols, *restrict w_row = wx + i * cols;
         float *restrict out_row = out_x + i * cols;
