@@ -302,3 +302,25 @@ def test_a_python_float_is_refused_where_numba_would_compile_for_float64():
     x = np.zeros((4, 6), np.float32)
     with pytest.raises(TypeError, match="np.float32 scalars"):
         c.depth_weight_rows(x, 0.5, x, x, x.copy(), x.copy(), 0, 4)
+
+
+@needs_c
+@pytest.mark.parametrize("shape", [(1, 9), (9, 1), (40, 57)])
+@pytest.mark.parametrize("passes", [1, 3])
+def test_the_geodesic_sweeps_are_numbas(shape, passes):
+    rng = np.random.default_rng(shape[0] * passes)
+    free = rng.random(shape) < 0.9
+    free.flat[::7] = False                                          # seeds everywhere
+    cost_x = rng.integers(0, 4, shape).astype(np.float32)          # small integers: many equal paths (ties)
+    cost_y = rng.integers(0, 4, shape).astype(np.float32)
+
+    def make():
+        distance = np.where(free, np.float32(np.inf), np.float32(0)).astype(np.float32)
+        source = np.where(free, -1, np.arange(free.size, dtype=np.int64).reshape(shape))
+        return cost_x, cost_y, free, distance, source, passes
+
+    jit_args, c_args = make(), make()
+    _jit("depthrefine._geodesic_jit").sweeps(*jit_args)
+    _native.kernels("depthrefine._geodesic_jit").sweeps(*c_args)
+    assert _same(jit_args[3], c_args[3]) and _same(jit_args[4], c_args[4])
+    assert (c_args[4] >= 0).sum() > free.size // 2

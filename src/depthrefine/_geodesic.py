@@ -1,51 +1,18 @@
-"""The geodesic nearest seed on a color image (numba): which side of an edge a pixel belongs to.
+"""The geodesic nearest seed on a color image (a compiled kernel): which side of an edge a pixel belongs to.
 
 Shared by gbp's edge snapping (:mod:`depthrefine.methods.gbp.edges`) and the
 chain's unmeasured pixels (:mod:`depthrefine.rig.chain`), which sit in
-different domains. Imported only where one of them runs (it imports numba).
+different domains. The kernel is depthrefine's C one when built
+(:mod:`depthrefine._native`), else numba's (:mod:`._geodesic_jit`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._numba import njit
+from ._native import kernels
 
 __all__ = ["nearest_seed", "color_step_costs"]
-
-
-@njit
-def _sweeps(cost_x, cost_y, free, distance, source, sweeps):  # pragma: no cover - compiled
-    rows, cols = free.shape
-    for _ in range(sweeps):
-        for i in range(rows):              # forward: from the top and the left
-            for j in range(cols):
-                if not free[i, j]:
-                    continue
-                best, origin = distance[i, j], source[i, j]
-                if i > 0:
-                    d = distance[i - 1, j] + cost_y[i - 1, j]
-                    if d < best:
-                        best, origin = d, source[i - 1, j]
-                if j > 0:
-                    d = distance[i, j - 1] + cost_x[i, j - 1]
-                    if d < best:
-                        best, origin = d, source[i, j - 1]
-                distance[i, j], source[i, j] = best, origin
-        for i in range(rows - 1, -1, -1):  # backward: from the bottom and the right
-            for j in range(cols - 1, -1, -1):
-                if not free[i, j]:
-                    continue
-                best, origin = distance[i, j], source[i, j]
-                if i < rows - 1:
-                    d = distance[i + 1, j] + cost_y[i, j]
-                    if d < best:
-                        best, origin = d, source[i + 1, j]
-                if j < cols - 1:
-                    d = distance[i, j + 1] + cost_x[i, j]
-                    if d < best:
-                        best, origin = d, source[i, j + 1]
-                distance[i, j], source[i, j] = best, origin
 
 
 def nearest_seed(cost_x: np.ndarray, cost_y: np.ndarray, free: np.ndarray, sweeps: int = 3) -> np.ndarray:
@@ -68,8 +35,9 @@ def nearest_seed(cost_x: np.ndarray, cost_y: np.ndarray, free: np.ndarray, sweep
     free = np.ascontiguousarray(free, dtype=np.bool_)
     distance = np.where(free, np.float32(np.inf), np.float32(0)).astype(np.float32)
     source = np.where(free, -1, np.arange(free.size, dtype=np.int64).reshape(free.shape))
-    _sweeps(np.ascontiguousarray(cost_x, dtype=np.float32), np.ascontiguousarray(cost_y, dtype=np.float32),
-            free, distance, source, sweeps)
+    kernels(__package__ + "._geodesic_jit").sweeps(
+        np.ascontiguousarray(cost_x, dtype=np.float32), np.ascontiguousarray(cost_y, dtype=np.float32), free,
+        distance, source, int(sweeps))
     return source
 
 

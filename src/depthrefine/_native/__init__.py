@@ -40,7 +40,7 @@ __all__ = ["kernels", "library", "why_not"]
 ENV = "DEPTHREFINE_KERNELS"
 
 #: The C functions' signatures this module calls: kernels.c's DEPTHREFINE_KERNELS_ABI must say the same.
-ABI = 1
+ABI = 2
 
 _lock = threading.Lock()
 _loaded: list = []          # [library or None, reason it is None]
@@ -95,6 +95,7 @@ def _declare(lib: ctypes.CDLL) -> None:
         "dr_clip_rows": (None, [_p, _i, _c_float, _c_float, _p, _p, _i, _p, _p, _i, _i]),
         "dr_clip_toward_rows": (None, [_p, _i, _p, _p, _p, _i, _p, _p, _i, _i]),
         "dr_hypot_rows": (None, [_p, _p, _p, _i, _i, _i]),
+        "dr_geodesic_sweeps": (None, [_p, _p, _p, _p, _p, _i, _i, _i]),
         "dr_search": (ctypes.c_int, [_p, _p, _p, _p, _p, _i, _i, _c_int64, _c_double, _p, _p, _p, _p, _i, _i]),
     }
     for name, (restype, argtypes) in signatures.items():
@@ -211,6 +212,12 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
             raise TypeError(f"x, y and out must have one shape; got {x.shape}, {y.shape}, {out.shape}")
         lib.dr_hypot_rows(_ptr(x), _ptr(y), _ptr(out), x.shape[1], int(i0), int(i1))
 
+    def sweeps(cost_x, cost_y, free, distance, source, passes):
+        if not cost_x.shape == cost_y.shape == free.shape == distance.shape == source.shape:
+            raise TypeError("cost_x, cost_y, free, distance and source must have one shape")
+        lib.dr_geodesic_sweeps(_ptr(cost_x), _ptr(cost_y), _ptr(free, np.bool_), _ptr(distance),
+                               _ptr(source, np.int64), free.shape[0], free.shape[1], int(passes))
+
     def search(band, magnitude, gx, gy, edges, reach, peak_ratio, row_start, offsets, angles, found, i0, i1):
         _check(lib.dr_search(_ptr(band, np.bool_), _ptr(magnitude), _ptr(gx), _ptr(gy), _ptr(edges), band.shape[0],
                              band.shape[1], int(reach), float(peak_ratio), _ptr(row_start, np.int64),
@@ -220,5 +227,5 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
     _namespace.append(SimpleNamespace(
         sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
         edge_weight_rows=edge_weight_rows, depth_weight_rows=depth_weight_rows, enlarge_rows=enlarge_rows,
-        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, search=search, expf32=lib.dr_exp_f32))
+        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, sweeps=sweeps, search=search, expf32=lib.dr_exp_f32))
     return _namespace[0]

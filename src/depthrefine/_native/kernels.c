@@ -26,7 +26,7 @@
 #endif
 
 /* The functions' signatures, checked by the loader (depthrefine._native.ABI): raise it with any change of them. */
-#define DEPTHREFINE_KERNELS_ABI 1
+#define DEPTHREFINE_KERNELS_ABI 2
 
 #if defined(_MSC_VER) && !defined(__clang__)
 #define restrict __restrict     /* MSVC knows C99's restrict only with /std:c11 */
@@ -433,6 +433,53 @@ EXPORT int dr_search(const uint8_t *band, const float *magnitude, const float *g
     }
     free(profile);
     return 0;
+}
+
+/* ---- the geodesic nearest seed (_geodesic_jit.py) ---- */
+
+/* passes forward and backward raster passes over the free pixels of a rows x cols grid: each takes the smaller
+ * of its distance and a neighbour's plus the step's cost (float32), and that neighbour's source. */
+EXPORT void dr_geodesic_sweeps(const float *cost_x, const float *cost_y, const uint8_t *free_, float *distance,
+                               int64_t *source, index_t rows, index_t cols, index_t passes)
+{
+    for (index_t pass = 0; pass < passes; pass++) {
+        for (index_t i = 0; i < rows; i++) {               /* forward: from the top and the left */
+            for (index_t j = 0; j < cols; j++) {
+                index_t at = i * cols + j;
+                if (!free_[at]) continue;
+                float best = distance[at];
+                int64_t origin = source[at];
+                if (i > 0) {
+                    float d = distance[at - cols] + cost_y[at - cols];
+                    if (d < best) { best = d; origin = source[at - cols]; }
+                }
+                if (j > 0) {
+                    float d = distance[at - 1] + cost_x[at - 1];
+                    if (d < best) { best = d; origin = source[at - 1]; }
+                }
+                distance[at] = best;
+                source[at] = origin;
+            }
+        }
+        for (index_t i = rows - 1; i >= 0; i--) {          /* backward: from the bottom and the right */
+            for (index_t j = cols - 1; j >= 0; j--) {
+                index_t at = i * cols + j;
+                if (!free_[at]) continue;
+                float best = distance[at];
+                int64_t origin = source[at];
+                if (i < rows - 1) {
+                    float d = distance[at + cols] + cost_y[at];
+                    if (d < best) { best = d; origin = source[at + cols]; }
+                }
+                if (j < cols - 1) {
+                    float d = distance[at + 1] + cost_x[at];
+                    if (d < best) { best = d; origin = source[at + 1]; }
+                }
+                distance[at] = best;
+                source[at] = origin;
+            }
+        }
+    }
 }
 
 /* An importable module, so that the package's loader finds this library's file by its name. */

@@ -43,8 +43,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    warm = _warm_up_numba(args.method, own_process=getattr(args, "own_process", False),
-                          snap_edges=bool(getattr(args, "snap_edges", False)))
+    warm = _warm_up_numba(args.method, own_process=getattr(args, "own_process", False))
     try:
         return _run(args)
     finally:
@@ -52,12 +51,11 @@ def run(args: argparse.Namespace) -> int:
             warm.join()
 
 
-def _warm_up_numba(method: str, *, own_process: bool = False, snap_edges: bool = False) -> threading.Thread | None:
+def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Thread | None:
     """For a method that runs numba's kernels, numba's one-time set-up in a thread (while the images are read).
 
     None for a method that runs none: not compiled, or all its kernels in
-    depthrefine's C library (gbp and gbp-fast when it is built, without
-    ``--snap-edges``). In the process's own command line (``own_process``),
+    depthrefine's C library (gbp and gbp-fast when it is built). In the process's own command line (``own_process``),
     which runs only depthrefine's kernels, numba is imported without cffi and
     PyYAML and set up without its BLAS check (``cli._numba_lean``;
     ``_numba.warm_up``).
@@ -66,7 +64,7 @@ def _warm_up_numba(method: str, *, own_process: bool = False, snap_edges: bool =
 
     if method not in COMPILED_METHODS:
         return None
-    if method in NATIVE_METHODS and not snap_edges:
+    if method in NATIVE_METHODS:
         from .._native import library
 
         if library() is not None:

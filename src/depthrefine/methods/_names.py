@@ -38,8 +38,7 @@ BUILTIN_OPTION_MODULES = {"gbp": "depthrefine.methods.gbp._options",
 #: images (:func:`depthrefine._numba.warm_up`), unless the method's kernels are all in depthrefine's C library.
 COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
 
-#: Compiled methods whose kernels depthrefine's C library holds when it is built (:mod:`depthrefine._native`),
-#: but for ``--snap-edges`` (its geodesic sweeps are numba's only).
+#: Compiled methods whose kernels depthrefine's C library holds when it is built (:mod:`depthrefine._native`).
 NATIVE_METHODS = ("gbp", "gbp-fast")
 
 _REGISTRY = "depthrefine.methods.registry"
