@@ -13,10 +13,12 @@ numba's remain the reference and the fallback.
 the library is built, current and usable on this CPU, else the numba module
 itself. ``DEPTHREFINE_KERNELS=numba`` in the environment forces numba's.
 
-The wrappers below take the numba kernels' arguments, in their order, and
-check nothing: the modules that call them (``methods/_wls.py``,
-``methods/_resample.py``, ``methods/gbp/_offsets.py``) hand them checked,
-C-contiguous arrays of the right types.
+The wrappers below take the numba kernels' arguments, in their order. They
+check what would make C read or write out of bounds or round otherwise than
+numba (dtypes, C-contiguity, float32 scalars; :func:`_ptr`, :func:`_f32`),
+not the shapes' agreement, which the modules that call them check
+(``methods/_wls.py``, ``methods/_resample.py``, ``methods/gbp/_offsets.py``,
+``methods/gbp/fattening.py``, ``_geodesic.py``).
 """
 
 from __future__ import annotations
@@ -227,5 +229,6 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
     _namespace.append(SimpleNamespace(
         sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
         edge_weight_rows=edge_weight_rows, depth_weight_rows=depth_weight_rows, enlarge_rows=enlarge_rows,
-        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, sweeps=sweeps, search=search, expf32=lib.dr_exp_f32))
+        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, sweeps=sweeps, search=search,
+        expf32=lib.dr_exp_f32))
     return _namespace[0]

@@ -33,7 +33,8 @@ def jump_offsets(band: np.ndarray, magnitude: np.ndarray, gx: np.ndarray, gy: np
     row_start = np.concatenate([[0], np.cumsum(per_row)[:-1]]).astype(np.int64)
     offsets, angles = np.empty(int(per_row.sum())), np.empty(int(per_row.sum()))
     found = np.zeros(band.shape[0], np.int64)
-    run_split(kernels(__package__ + "._offsets_jit").search, band.shape[0], band, magnitude, gx, gy, edges, int(reach), float(peak_ratio), row_start,
+    search = kernels(__package__ + "._offsets_jit").search
+    run_split(search, band.shape[0], band, magnitude, gx, gy, edges, int(reach), float(peak_ratio), row_start,
               offsets, angles, found)
     # row by row, in the order of a sequential pass: the same arrays however the rows were shared out
     keep = np.repeat(row_start - np.concatenate([[0], np.cumsum(found)[:-1]]), found) + np.arange(found.sum())

@@ -32,7 +32,7 @@ def _bilinear(image, x, y):  # pragma: no cover - compiled
 
 @njit
 def search(band, magnitude, gx, gy, edges, reach, peak_ratio, row_start, offsets, angles, found,
-            i0, i1):  # pragma: no cover - compiled
+           i0, i1):  # pragma: no cover - compiled
     """Rows ``i0:i1``: row ``i``'s results go to ``offsets[row_start[i]:]`` in column order, their count to ``found[i]``."""
     cols = band.shape[1]
     steps = 2 * reach + 1
