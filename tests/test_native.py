@@ -324,3 +324,10 @@ def test_the_geodesic_sweeps_are_numbas(shape, passes):
     _native.kernels("depthrefine._geodesic_jit").sweeps(*c_args)
     assert _same(jit_args[3], c_args[3]) and _same(jit_args[4], c_args[4])
     assert (c_args[4] >= 0).sum() > free.size // 2
+
+
+def test_version_says_which_kernels_gbp_runs():
+    expected = "gbp's kernels: C" if lib is not None else "gbp's kernels: numba (C ones: "
+    assert expected in _fresh("from depthrefine.cli import main; main(['--version'])")
+    assert "gbp's kernels: numba (C ones: DEPTHREFINE_KERNELS=numba)" in _fresh(
+        "from depthrefine.cli import main; main(['--version'])", DEPTHREFINE_KERNELS="numba")

@@ -15,7 +15,7 @@ itself. ``DEPTHREFINE_KERNELS=numba`` in the environment forces numba's.
 
 The wrappers below take the numba kernels' arguments, in their order. They
 check what would make C read or write out of bounds or round otherwise than
-numba (dtypes, C-contiguity, float32 scalars; :func:`_ptr`, :func:`_f32`),
+numba (dtypes, C-contiguity, float32 scalars),
 not the shapes' agreement, which the modules that call them check
 (``methods/_wls.py``, ``methods/_resample.py``, ``methods/gbp/_offsets.py``,
 ``methods/gbp/fattening.py``, ``_geodesic.py``).
@@ -33,9 +33,7 @@ from importlib.machinery import EXTENSION_SUFFIXES
 from pathlib import Path
 from types import ModuleType, SimpleNamespace
 
-import numpy as np
-
-__all__ = ["kernels", "library", "why_not"]
+__all__ = ["kernels", "c_kernels", "library", "why_not", "describe"]
 
 #: The environment variable that chooses the kernels: ``numba`` forces numba's, anything else means "the C ones
 #: when built".
@@ -119,6 +117,16 @@ def library() -> ctypes.CDLL | None:
         return _loaded[0]
 
 
+def _check(status: int) -> None:
+    if status != 0:
+        raise MemoryError("depthrefine's C kernels could not allocate their scratch memory")
+
+
+def describe() -> str:
+    """Which kernels gbp runs, in a few words (``depthrefine --version``)."""
+    return "gbp's kernels: C" if library() is not None else f"gbp's kernels: numba (C ones: {why_not()})"
+
+
 def why_not() -> str:
     """Why :func:`library` is None ('' when it is not)."""
     library()
@@ -141,28 +149,6 @@ def c_kernels() -> SimpleNamespace | None:
     return None if lib is None else _wrappers(lib)
 
 
-def _ptr(a: np.ndarray, dtype=np.float32, *, rows_strided: bool = False) -> int:
-    """The address of ``a``'s data, once it is checked to be ``dtype`` and C-contiguous (or, ``rows_strided``, its
-    elements contiguous within each row): a wrong array must raise here, never reach C."""
-    if a.dtype != dtype or not (a.flags.c_contiguous or rows_strided and a.ndim == 2 and a.strides[1] == a.itemsize
-                                and a.strides[0] % a.itemsize == 0 and a.strides[0] >= a.shape[1] * a.itemsize):
-        raise TypeError(f"depthrefine's C kernels take C-contiguous {np.dtype(dtype)} arrays; got {a.dtype}, "
-                        f"strides {a.strides}")
-    return a.__array_interface__["data"][0]
-
-
-def _f32(value) -> float:
-    """A float32 argument's value; anything else raises (numba would compile the kernel for float64 instead)."""
-    if not isinstance(value, np.float32):
-        raise TypeError(f"depthrefine's C kernels take np.float32 scalars where numba's got them; got {type(value)}")
-    return float(value)
-
-
-def _check(status: int) -> None:
-    if status != 0:
-        raise MemoryError("depthrefine's C kernels could not allocate their scratch memory")
-
-
 _namespace: list[SimpleNamespace] = []
 
 
@@ -170,6 +156,24 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
     """The C kernels under the numba kernels' names and arguments."""
     if _namespace:
         return _namespace[0]
+    import numpy as np      # here, not at the top: ``depthrefine --version`` asks library() and imports no numpy
+
+    def _ptr(a: np.ndarray, dtype=np.float32, *, rows_strided: bool = False) -> int:
+        """The address of ``a``'s data, once it is checked to be ``dtype`` and C-contiguous (or, ``rows_strided``,
+        its elements contiguous within each row): a wrong array must raise here, never reach C."""
+        if a.dtype != dtype or not (a.flags.c_contiguous or rows_strided and a.ndim == 2
+                                    and a.strides[1] == a.itemsize and a.strides[0] % a.itemsize == 0
+                                    and a.strides[0] >= a.shape[1] * a.itemsize):
+            raise TypeError(f"depthrefine's C kernels take C-contiguous {np.dtype(dtype)} arrays; got {a.dtype}, "
+                            f"strides {a.strides}")
+        return a.__array_interface__["data"][0]
+
+    def _f32(value) -> float:
+        """A float32 argument's value; anything else raises (numba would compile the kernel for float64 instead)."""
+        if not isinstance(value, np.float32):
+            raise TypeError(f"depthrefine's C kernels take np.float32 scalars where numba's got them; "
+                            f"got {type(value)}")
+        return float(value)
 
     def sweep_columns(u, w, lam, j0, j1):
         # u and w may be views of wider tiles: rows of `strides[0]` bytes, float32 elements side by side

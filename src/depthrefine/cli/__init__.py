@@ -59,6 +59,20 @@ class CliError(Exception):
     """Bad input found by a command: printed as one line, exit status 2."""
 
 
+class _Version(argparse.Action):
+    """``--version``: the package's version and which kernels gbp runs (C or numba, and why), made when asked."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0,
+                         help=help or "show the version and which kernels gbp runs, and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from .._native import describe   # ctypes only: no numpy, no numba
+
+        parser._print_message(f"depthrefine {__version__} ({describe()})\n", sys.stdout)   # as argparse's own
+        parser.exit()
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, exit 2 (argparse's own status)
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
@@ -76,7 +90,7 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
         prog="depthrefine",
         description="Refine a low-resolution ToF depth map with a registered high-resolution color image.",
     )
-    parser.add_argument("--version", action="version", version=f"depthrefine {__version__}")
+    parser.add_argument("--version", action=_Version)
     parser.add_argument("--debug", action="store_true", help="show tracebacks of internal failures")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
