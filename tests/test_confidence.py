@@ -375,3 +375,30 @@ def test_temporal_batch_confidence_is_the_frames_own_map_or_the_generic_map_of_t
         assert np.array_equal(confidence, depthrefine.refine_with_confidence(depth_lr, rgb)[1])
     for (depth_lr, _), (_, depth_hr, confidence) in zip(frames, thesis):
         assert np.array_equal(confidence, generic_confidence(depth_lr, depth_hr))
+
+
+def test_the_reach_term_looks_a_whole_input_pixel_from_an_edge_on_a_reprojected_input():
+    from depthrefine.methods.confidence import error_terms
+
+    depth_lr = np.full((12, 12), 100.0, np.float32)
+    depth_lr[:, 6:] = 200.0
+    depth_hr = np.full((96, 96), 100.0, np.float32)
+    depth_hr[:, 48:] = 200.0                                  # the edge between color columns 47 and 48, x8
+    valid = np.ones(depth_lr.shape, bool)
+    half, whole = (error_terms(depth_hr, valid, depth_lr, 1.0, reach=r)["reach"] for r in (0.5, 1.0))
+    columns = lambda t: np.flatnonzero(t[48] > 0)             # noqa: E731
+    assert columns(half).tolist() == list(range(43, 53))      # 4 color pixels each side of the Sobel's two columns
+    assert columns(whole).tolist() == list(range(39, 57))     # 8
+
+
+def test_gbp_gives_a_reprojected_input_the_wider_reach():
+    from depthrefine import GbpParams
+    from depthrefine.methods.gbp import confidence as gbp_confidence
+
+    depth = np.array([[10, 10, 10, 50, 50, 50]] * 6, np.float32)
+    rgb = np.zeros((48, 48, 3), np.uint8)
+    rgb[:, 24:] = 200
+    _, registered = gbp_confidence.upsample_gbp_with_confidence(depth, rgb)
+    _, reprojected = gbp_confidence.upsample_gbp_with_confidence(depth, rgb, params=GbpParams(reprojected=True))
+    doubtful = lambda c: int((c < c.max() - 0.05).sum())       # noqa: E731
+    assert doubtful(reprojected) > doubtful(registered)

@@ -227,7 +227,7 @@ def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray
 
 
 def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, level: float,
-                noise: float = 0.0, *, disagreement: bool = True) -> dict[str, np.ndarray]:
+                noise: float = 0.0, *, disagreement: bool = True, reach: float = 0.5) -> dict[str, np.ndarray]:
     """The squared error terms of the expected error, weighted, on the grid of ``depth_hr`` (depth units squared).
 
     Parameters
@@ -247,6 +247,10 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
     disagreement : bool
         Include the ``disagree`` term (False for a method whose output's
         reduction matches its input by construction, as gbp's).
+    reach : float
+        How far from an edge, in input pixels, the ``reach`` term looks
+        (0.5: where an input pixel's footprint straddles an edge, the output
+        may put it anywhere inside that pixel); at least one color pixel.
 
     Returns
     -------
@@ -266,9 +270,9 @@ def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, lev
     # not cv2.magnitude: its vector and scalar paths round differently, and where they meet moves with its
     # threads (not bit-identical from run to run)
     steep = np.sqrt(gx * gx + gy * gy) / np.float32(8.0)   # depth per color pixel
-    reach = max(1, int(round(scale / 2)))
+    radius = max(1, int(round(scale * reach)))
     near = cv2.dilate(steep, np.ones((3, 3), np.uint8))
-    wide = cv2.dilate(steep, np.ones((2 * reach + 1,) * 2, np.uint8))
+    wide = cv2.dilate(steep, np.ones((2 * radius + 1,) * 2, np.uint8))
     kernel = np.ones((3, 3), np.uint8)
     if valid.all():
         hole = np.zeros((H, W), np.float32)
