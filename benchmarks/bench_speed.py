@@ -60,9 +60,11 @@ from depthrefine.io import load_sample
 from depthrefine.methods.thesis.refine import step_times
 
 try:
-    from benchmarks.bench_startup import format_first_call, format_startup, measure_first_call, measure_startup
+    from benchmarks.bench_startup import (add_kernels_option, format_first_call, format_startup, measure_first_call,
+                                          measure_startup, use_kernels)
 except ImportError:  # run as a script from benchmarks/
-    from bench_startup import format_first_call, format_startup, measure_first_call, measure_startup
+    from bench_startup import (add_kernels_option, format_first_call, format_startup, measure_first_call,
+                               measure_startup, use_kernels)
 
 FGS_LAMBDA = 24.0
 FGS_SIGMA_COLOR = 8.0
@@ -250,11 +252,9 @@ def main(argv: list[str] | None = None) -> int:
                     help="seconds per method and input that set a slow method's repeats (min 3)")
     ap.add_argument("--no-memory", action="store_true", help="skip the peak-memory measurement")
     ap.add_argument("--no-startup", action="store_true", help="skip the start-up and first-call measurements")
-    ap.add_argument("--kernels", choices=("built", "numba"), default="built",
-                    help="gbp's kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
+    add_kernels_option(ap)
     args = ap.parse_args(argv)
-    if args.kernels == "numba":
-        os.environ["DEPTHREFINE_KERNELS"] = "numba"     # this process and every one it starts
+    use_kernels(args.kernels)
     from depthrefine import _native
 
     methods = list(depthrefine.METHODS) if args.methods == "all" else args.methods.split(",")
@@ -265,8 +265,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"depthrefine {depthrefine.__version__}, OpenCV {cv2.__version__}, {cv2.getNumThreads()} OpenCV threads, "
           f"{os.cpu_count()} CPUs, up to {args.repeats} alternated repeats; FGS peer lambda={FGS_LAMBDA}, "
           f"sigma_color={FGS_SIGMA_COLOR}")
-    print("gbp's kernels: " + ("C (depthrefine._native)" if _native.library() is not None else
-                               f"numba ({_native.why_not()})"))
+    print(_native.describe())
     print(f"load average at the start: {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min)")
     header = (f"{'input':48s} {'method':9s} {'ms':>8s} {'FGS ms':>8s} {'ratio':>6s} {'cpu':>6s} {'runs':>4s} "
               f"{'peak MB':>8s} {'x output':>9s}")

@@ -124,7 +124,7 @@ from depthrefine.methods import _wls
 x = numpy.zeros((4, 4), numpy.float32)
 _wls.smooth(x, x, x, 1.0)
 stages["the first kernel call (with numba: its target set-up, cache load)"] = time.perf_counter() - t
-stages["kernels"] = "C" if _native.library() is not None else "numba (" + _native.why_not() + ")"
+stages["kernels"] = _native.describe()
 stages["scipy.ndimage imported by the refine"] = None
 t = time.perf_counter()
 main(sys.argv[1:])
@@ -204,9 +204,21 @@ def format_first_call(result: dict) -> list[str]:
         stages = r["stages"]
         parts = ", ".join(f"{k} {v * 1e3:.0f} ms" for k, v in stages.items() if isinstance(v, float))
         scipy = "yes" if stages.get("scipy.ndimage imported by the refine") else "no"
-        lines.append(f"  {method} in a fresh process ({stages['kernels']} kernels): {parts}; "
+        lines.append(f"  {method} in a fresh process ({stages['kernels']}): {parts}; "
                      f"scipy.ndimage imported: {scipy}")
     return lines
+
+
+def add_kernels_option(ap: argparse.ArgumentParser) -> None:
+    """``--kernels built|numba``: which kernels gbp runs in this process and every one it starts (:func:`use_kernels`)."""
+    ap.add_argument("--kernels", choices=("built", "numba"), default="built",
+                    help="gbp's kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
+
+
+def use_kernels(choice: str) -> None:
+    """``numba``: set ``DEPTHREFINE_KERNELS=numba`` for this process and every one it starts; ``built``: leave it."""
+    if choice == "numba":
+        os.environ["DEPTHREFINE_KERNELS"] = "numba"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -215,11 +227,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--all-commands", action="store_true", help="also every other command's --help")
     ap.add_argument("--first-call", action="store_true", help="measure the first refine call instead (issue 22)")
     ap.add_argument("--methods", default="gbp", help="with --first-call: comma-separated methods (default gbp)")
-    ap.add_argument("--kernels", choices=("built", "numba"), default="built",
-                    help="gbp's kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
+    add_kernels_option(ap)
     args = ap.parse_args(argv)
-    if args.kernels == "numba":
-        os.environ["DEPTHREFINE_KERNELS"] = "numba"     # inherited by every process measured
+    use_kernels(args.kernels)
     if args.first_call:
         result = measure_first_call(args.repeats or 5, tuple(args.methods.split(",")))
         print("\n".join(format_first_call(result)))

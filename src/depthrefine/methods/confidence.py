@@ -54,7 +54,7 @@ if TYPE_CHECKING:
 
 __all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "confidence_on_grid",
            "apply_min_confidence", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
-           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "HOLE_WEIGHT", "HOLE_LEVELS",
+           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "REACH_PIXELS", "HOLE_WEIGHT", "HOLE_LEVELS",
            "HOLE_RANGE_NOISE", "DISAGREE_WEIGHT", "NOISE_SHARE",
            "ERROR_SCALE", "CONFIDENCE_LEVELS"]
 
@@ -62,6 +62,8 @@ __all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", 
 NEAR_LENGTH = 1.78
 #: Weight of the output's steepness within half an input pixel, in color pixels.
 REACH_LENGTH = 1.0
+#: How far from an edge the ``reach`` term looks, in input pixels (``error_terms(reach=...)``'s default).
+REACH_PIXELS = 0.5
 #: Weight of (distance to valid input, input pixels) x (the input's 3x3 range + ``HOLE_LEVELS`` levels).
 HOLE_WEIGHT = 1.0
 #: A filled pixel's error grows by at least this many levels per input pixel of distance to a measurement.
@@ -227,7 +229,8 @@ def generic_confidence(depth_lr: np.ndarray, depth_hr: np.ndarray) -> np.ndarray
 
 
 def error_terms(depth_hr: np.ndarray, valid: np.ndarray, filled: np.ndarray, level: float,
-                noise: float = 0.0, *, disagreement: bool = True, reach: float = 0.5) -> dict[str, np.ndarray]:
+                noise: float = 0.0, *, disagreement: bool = True, reach: float = REACH_PIXELS
+                ) -> dict[str, np.ndarray]:
     """The squared error terms of the expected error, weighted, on the grid of ``depth_hr`` (depth units squared).
 
     Parameters

@@ -23,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 from ..._validate import as_depth, check_rgb, guide_uint8
-from ..confidence import NOISE_SHARE, confidence_from_error, error_terms, expected_error
+from ..confidence import NOISE_SHARE, REACH_PIXELS, confidence_from_error, error_terms, expected_error
 from .measure import InputMeasures
 from .params import GbpParams
 from .upsample import _refine
@@ -81,7 +81,7 @@ def gbp_confidence(result: np.ndarray, measures: InputMeasures, guided: np.ndarr
     """
     level = measures.span / 255.0
     terms = error_terms(result, measures.valid, measures.filled, level, measures.sigma, disagreement=disagreement,
-                        reach=REPROJECTED_REACH if disagreement else 0.5)
+                        reach=REPROJECTED_REACH if disagreement else REACH_PIXELS)
     fallback = np.abs(result - guided)
     fallback *= np.float32(FALLBACK_WEIGHT)
     terms["fallback"] = np.square(fallback)
