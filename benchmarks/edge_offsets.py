@@ -7,7 +7,11 @@ whether it reaches ``FATTEN_MIN`` (step 1b thins the input there); then, per
 protocol, the largest offset of the cases it leaves alone and how many it
 thins. A registered input must stay below the threshold (its output is then
 bit-identical to gbp without step 1b); the ``sensor`` protocol's direct-ToF
-cases should reach it. Beside it, the shift of the whole map from the color
+cases should reach it. The column ``check`` gives the verdict of step 1b's cheap
+check (``fattening.clearly_unfattened`` on the guide reduced to ``CHECK_SCALE``
+pixels per depth pixel): ``skip`` where it spares the full measure; a case it
+skips that the full measure would thin is counted as a miss (there should be
+none: the output would differ from the full measure's). Beside it, the shift of the whole map from the color
 edges (``fattening.edge_shift``, depth pixels, (dy, dx)) and whether it reaches
 ``SHIFT_MIN``: step 1b moves the input back by it only when the input is
 reprojected (the ``sensor`` protocol's cases, ``run``'s); on the registered
@@ -28,7 +32,11 @@ from pathlib import Path
 def main(argv: list[str] | None = None) -> int:
     from depthrefine._validate import as_depth, check_rgb, guide_uint8
     from depthrefine.bench.protocols import load_cases
-    from depthrefine.methods.gbp.fattening import FATTEN_MIN, SHIFT_MIN, edge_offset, edge_shift, sector_medians
+    import cv2
+
+    from depthrefine.methods.gbp.fattening import (CHECK_SCALE, FATTEN_MIN, SHIFT_MIN, clearly_unfattened,
+                                                   edge_offset, edge_shift, sector_medians)
+    from depthrefine.methods.gbp.solve import resize, work_shape
     from depthrefine.methods.gbp.measure import measure_input
 
     default = Path(__file__).resolve().parents[1].parent / "shared" / "data"
@@ -39,7 +47,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     for protocol in args.protocols.split(","):
         scales = (4, 8) if protocol == "realtof" else (4, 8, 16)
-        left, thinned, shifts = 0.0, [], []
+        left, thinned, shifts, skipped, missed = 0.0, [], [], 0, 0
         for case in load_cases(args.data, protocol, scales):
             guide = guide_uint8(check_rgb(case.rgb_hr))
             m = measure_input(as_depth(case.depth_lr), guide)
@@ -47,17 +55,23 @@ def main(argv: list[str] | None = None) -> int:
             offset = edge_offset(m, guide, medians)
             dy, dx = edge_shift(m, guide, medians)
             applied = abs(offset) >= FATTEN_MIN
+            reduced = work_shape(m.depth.shape, guide.shape[:2], CHECK_SCALE)
+            skip = reduced != guide.shape[:2] and clearly_unfattened(m, resize(guide, reduced, cv2.INTER_AREA))
+            skipped += skip
+            missed += skip and applied
             if applied:
                 thinned.append(f"{case.scene} x{case.scale}")
             else:
                 left = max(left, abs(offset))
             shifts.append(math.hypot(dy, dx))
             print(f"{protocol:12s} {case.scene:16s} x{case.scale:<3d} {offset:+.3f}{'  thinned' if applied else '':9s}"
+                  f" check {'skip' if skip else 'full'}{'  MISSED' if skip and applied else ''}"
                   f" shift ({dy:+.2f}, {dx:+.2f}){'  moved if reprojected' if shifts[-1] >= SHIFT_MIN else ''}",
                   flush=True)
         print(f"{protocol}: thinned {len(thinned)} case(s); largest |offset| left alone {left:.3f} "
               f"(threshold {FATTEN_MIN}); shift >= {SHIFT_MIN} in {sum(v >= SHIFT_MIN for v in shifts)} of "
-              f"{len(shifts)} case(s), largest {max(shifts, default=0.0):.2f}", flush=True)
+              f"{len(shifts)} case(s), largest {max(shifts, default=0.0):.2f}; the check skips {skipped} case(s), "
+              f"{missed} of them the full measure would thin", flush=True)
     return 0
 
 

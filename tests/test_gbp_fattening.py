@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from depthrefine._validate import as_depth
-from depthrefine.methods.gbp import fattening, upsample_gbp
+from depthrefine.methods.gbp import GbpParams, fattening, upsample_gbp
 from depthrefine.methods.gbp.fattening import FATTEN_MIN, edge_offset, thin_fattened
 from depthrefine.methods.gbp.measure import measure_input
 
@@ -129,6 +129,24 @@ def test_gbp_fast_thins_as_gbp_measures(scene, monkeypatch):
     monkeypatch.setattr(fattening, "FATTEN_MIN", np.inf)           # the same call without step 1b
     kept = upsample_gbp_fast(fattened_lr, scene.rgb_hr)
     assert _rmse(thinned, scene.depth_hr_gt) < 0.6 * _rmse(kept, scene.depth_hr_gt)
+
+
+def test_gbp_measures_in_full_only_where_the_cheap_check_does_not_clearly_say_registered(scene, monkeypatch):
+    """Step 1b's check (:func:`fattening.thin_if_fattened`): a registered input skips the full measure, with the
+    same output as the full measure gives; a fattened input and any reprojected input get the full measure."""
+    registered_lr = _footprint_means(scene.depth_hr_gt, SCALE)
+    fattened_lr = _fattened(scene.depth_hr_gt, SCALE, grow=SCALE, larger_wins=True)
+    full = fattening.thin_fattened
+    calls = []
+    monkeypatch.setattr(fattening, "thin_fattened", lambda *a, **k: calls.append(a[0]) or full(*a, **k))
+    checked = upsample_gbp(registered_lr, scene.rgb_hr)
+    assert calls == []
+    upsample_gbp(fattened_lr, scene.rgb_hr)
+    upsample_gbp(registered_lr, scene.rgb_hr, params=GbpParams(reprojected=True))
+    assert len(calls) == 2
+    # without the check (a check that never skips): the same bits
+    monkeypatch.setattr(fattening, "clearly_unfattened", lambda m, guide: False)
+    assert np.array_equal(upsample_gbp(registered_lr, scene.rgb_hr), checked) and len(calls) == 3
 
 
 def _moved(depth_hr: np.ndarray, dy: int, dx: int) -> np.ndarray:

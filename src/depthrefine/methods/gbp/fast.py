@@ -44,19 +44,17 @@ import numpy as np
 
 from ..._validate import as_depth, check_int, check_number, check_rgb, guide_uint8
 from .edges import snap_edges
-from .fattening import clearly_unfattened, thin_fattened
+from .fattening import thin_if_fattened
 from .measure import InputMeasures, measure_input, noise_levels, noise_share
 from .params import GbpParams
 from .solve import (GUIDE_NOISE, back_project, clip_to_bounds, flat_blend, local_bounds, make_solver, reduce,
-                    resize, smoothed_guide)
+                    resize, smoothed_guide, work_shape)
 from .trust import blend_fallback, measured_trust
 
 __all__ = ["GbpFastParams", "upsample_gbp_fast", "restore_smooth_surfaces"]
 
 Progress = Callable[[int, int], None]
 
-#: The work grid is the color grid reduced by an integer factor of at least this (a quarter of the pixels).
-WORK_MIN_REDUCTION = 2
 #: The full-resolution solve's smoothness, in multiples of the nominal ``lambda_lr * s**2``.
 FINAL_LAMBDA = 4.0
 #: Its iterations (one pass along the rows and one along the columns each); 2 gained 0.3 % on the tuning mean.
@@ -117,28 +115,6 @@ class GbpFastParams:
         """The :class:`~.params.GbpParams` of the work-grid steps (``iterations = rounds``)."""
         shared = {f.name for f in dataclasses.fields(GbpParams)} & {f.name for f in dataclasses.fields(self)}
         return GbpParams(iterations=self.rounds, **{name: getattr(self, name) for name in shared})
-
-
-def work_shape(depth_shape: tuple[int, int], color_shape: tuple[int, int], work_scale: float) -> tuple[int, int]:
-    """The work grid: the color grid reduced by an integer factor ``k >= 2``, at least ``work_scale`` x the depth grid.
-
-    An integer factor keeps OpenCV's area reduction of the guide on its fast
-    path (a fractional one took ten times longer). A color grid less than
-    twice the depth grid is not reduced.
-
-    Examples
-    --------
-    >>> work_shape((272, 344), (1088, 1376), 4.0), work_shape((68, 86), (1088, 1376), 4.0)
-    ((544, 688), (272, 344))
-    >>> work_shape((100, 100), (150, 150), 4.0)
-    (150, 150)
-    """
-    (h, w), (H, W) = depth_shape, color_shape
-    scale = min(H / h, W / w)
-    k = max(WORK_MIN_REDUCTION, int(scale // work_scale))
-    if scale < k:
-        return H, W
-    return -(-H // k), -(-W // k)
 
 
 def noise_rows(guide: np.ndarray) -> np.ndarray:
@@ -220,10 +196,7 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
     else:
         guide_work = np.ascontiguousarray(resize(guide, work, cv2.INTER_AREA))       # 2
     m = measure_input(depth, noise_rows(guide), sampling=p.sampling)                 # 1
-    # 1b: the cheap measure on the work grid first (none where that is the full grid: the same measure twice),
-    # then gbp's own, on the full-resolution guide; a reprojected input's shift is measured there only
-    if p.reprojected or guide_work is guide or not clearly_unfattened(m, guide_work):
-        m = thin_fattened(m, guide, shift=bool(p.reprojected))
+    m = thin_if_fattened(m, guide, shift=bool(p.reprojected), guide_reduced=guide_work)     # 1b
     solver = make_solver(guide_work, m, g, GUIDE_NOISE, coarse=False)   # the work grid is reduced already
     bounds = local_bounds(m.depth, work)
     x = back_project(m, solver, g, bounds, None if progress is None else lambda k, _: step(k),    # 3

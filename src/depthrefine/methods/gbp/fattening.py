@@ -41,10 +41,10 @@ import math
 import numpy as np
 
 from .measure import InputMeasures, near_jump
-from .solve import resize
+from .solve import resize, work_shape
 
 __all__ = ["edge_offset", "edge_shift", "offset_axes", "sector_medians", "clearly_unfattened", "edge_offsets",
-           "thin_fattened"]
+           "thin_fattened", "thin_if_fattened"]
 
 #: An offset of the color edges below this many depth pixels is left alone (registered benchmark inputs: <= 0.40).
 FATTEN_MIN = 0.5
@@ -64,6 +64,9 @@ DIRECTIONS = 8
 MIN_SECTOR_PIXELS = 25
 #: ... and at least this many axes need both of their sectors.
 MIN_AXES = 3
+#: The cheap check (:func:`clearly_unfattened`) looks at the guide reduced by an integer factor to at least this many
+#: color pixels per depth pixel (gbp-fast's work grid, :func:`~.solve.work_shape`).
+CHECK_SCALE = 4.0
 #: A reprojected input's shift (:func:`edge_shift`) is undone from this many depth pixels (sensor tuning means
 #: 0.1 / 0.25 / 0.4: 5.2369 / 5.2257 / 5.2410, never 5.6116; docs/tuning.md).
 SHIFT_MIN = 0.25
@@ -212,6 +215,33 @@ def _hypot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     out = x * x
     out += y * y
     return np.sqrt(out, out=out)
+
+
+def thin_if_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False,
+                     guide_reduced: np.ndarray | None = None) -> InputMeasures:
+    """Step 1b with a cheap check first: :func:`thin_fattened`, skipped where the check clearly sees no fattening.
+
+    The check is :func:`clearly_unfattened` on ``guide_reduced`` (default:
+    ``guide`` reduced by area to :func:`~.solve.work_shape` with
+    :data:`CHECK_SCALE`), a fraction of the full measure's cost (a quarter to
+    a fifth of it on the 1.4 MP inputs of ``benchmarks/bench_speed.py``). Where
+    it says no fattening (every axis it measures is at most half of
+    :data:`FATTEN_MIN`, and the full measure differs from it by at most 0.21
+    depth pixels on the benchmark's inputs), ``m`` is returned as it is: the
+    full measure would leave it alone too (``python
+    benchmarks/edge_offsets.py`` prints both verdicts per case). A
+    reprojected input (``shift``) always gets the full measure, which also
+    reads its shift; so does a guide too small to reduce.
+    """
+    import cv2
+
+    if not shift:
+        if guide_reduced is None:
+            reduced = work_shape(m.depth.shape, guide.shape[:2], CHECK_SCALE)
+            guide_reduced = guide if reduced == guide.shape[:2] else resize(guide, reduced, cv2.INTER_AREA)
+        if guide_reduced is not guide and clearly_unfattened(m, guide_reduced):
+            return m
+    return thin_fattened(m, guide, shift=shift)
 
 
 def thin_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False) -> InputMeasures:

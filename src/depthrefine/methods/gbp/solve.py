@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Solver", "Bounds", "make_solver", "smoothed_guide", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
            "back_project", "detail_lambda",
-           "flat_blend", "reduce", "resize"]
+           "flat_blend", "reduce", "resize", "work_shape"]
 
 # ---- the detail solve
 #: The smoothing falls geometrically over the rounds, from this many times its nominal value ...
@@ -71,6 +71,10 @@ COARSE_MIN_SCALE = 2.0
 COARSE_MIN_FOOTPRINT = 1.0
 #: The enlargement to full resolution after them weighs colors with this many times the solves' color sensitivity.
 ENLARGE_SIGMA_COLOR = 16.0
+
+#: A reduced grid (gbp-fast's work grid, step 1b's check: :func:`work_shape`) is the color grid reduced by an integer
+#: factor of at least this (a quarter of the pixels).
+WORK_MIN_REDUCTION = 2
 
 # ---- the flat-area solve
 #: Color sensitivity of the flat-area solve, 8-bit levels.
@@ -181,6 +185,28 @@ def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.
     import cv2
 
     return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
+
+
+def work_shape(depth_shape: tuple[int, int], color_shape: tuple[int, int], work_scale: float) -> tuple[int, int]:
+    """The color grid reduced by an integer factor ``k >= 2``, at least ``work_scale`` x the depth grid.
+
+    An integer factor keeps OpenCV's area reduction of the guide on its fast
+    path (a fractional one took ten times longer). A color grid less than
+    twice the depth grid is not reduced.
+
+    Examples
+    --------
+    >>> work_shape((272, 344), (1088, 1376), 4.0), work_shape((68, 86), (1088, 1376), 4.0)
+    ((544, 688), (272, 344))
+    >>> work_shape((100, 100), (150, 150), 4.0)
+    (150, 150)
+    """
+    (h, w), (H, W) = depth_shape, color_shape
+    scale = min(H / h, W / w)
+    k = max(WORK_MIN_REDUCTION, int(scale // work_scale))
+    if scale < k:
+        return H, W
+    return -(-H // k), -(-W // k)
 
 
 def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray, *,

@@ -13,7 +13,7 @@ from .params import GbpParams
 from . import solve
 from .solve import back_project, clip_to_bounds, flat_blend, local_bounds, make_solver
 from .edges import snap_edges
-from .fattening import thin_fattened
+from .fattening import thin_if_fattened
 from .trust import blend_fallback, measured_trust
 
 __all__ = ["upsample_gbp", "upsample_gbp_stateful"]
@@ -27,7 +27,9 @@ def upsample_gbp(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpParams 
 
     1. measure the input once (noise, range, sampling model, depth jumps, the guide's noise);
        where its depth jumps sit consistently beyond the color edges on one side
-       (a direct-ToF camera's fattening), thin that side by as much; on a
+       (a direct-ToF camera's fattening), thin that side by as much (measured
+       on the full guide where a cheap check on the guide reduced does not
+       clearly say there is none); on a
        reprojected input (``params.reprojected``) move the whole map back by
        the shift its jumps show against the color edges;
     2. start from the bicubic enlargement, clipped at the input's depth jumps;
@@ -80,8 +82,8 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     p = GbpParams() if params is None else params
     if not isinstance(p, GbpParams):
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
-    measures = thin_fattened(measure_input(depth, guide, sampling=p.sampling), guide,   # 1, 1b
-                             shift=bool(p.reprojected))
+    measures = thin_if_fattened(measure_input(depth, guide, sampling=p.sampling), guide,   # 1, 1b
+                                shift=bool(p.reprojected))
     solver = make_solver(guide, measures, p, solve.GUIDE_NOISE)
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
