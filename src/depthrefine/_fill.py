@@ -73,17 +73,33 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
     reach = ENCLOSED_REACH * max(depth.shape)
     rows = np.asarray(depth)
     values = np.empty((4, *rows.shape), rows.dtype)         # the depth seen each way, NaN beyond reach
-    values[0] = _nearest_along_rows(rows, reach)                                 # to the left
-    values[1] = _nearest_along_rows(rows[:, ::-1], reach)[:, ::-1]               # to the right
-    values[2] = _nearest_along_rows(rows.T, reach).T                             # above
-    values[3] = _nearest_along_rows(rows.T[:, ::-1], reach)[:, ::-1].T           # below
+    values[0] = _nearest_along(rows, reach, axis=1)                              # to the left
+    values[1] = _nearest_along(rows[:, ::-1], reach, axis=1)[:, ::-1]            # to the right
+    values[2] = _nearest_along(rows, reach, axis=0)                              # above
+    values[3] = _nearest_along(rows[::-1], reach, axis=0)[::-1]                  # below
     with np.errstate(invalid="ignore"):
         complete = np.isfinite(values).all(axis=0)
-        low, high = values.min(axis=0), values.max(axis=0)
-        middle = np.median(values, axis=0)
+        low, high, middle = _range_and_median(values)
         one_surface = (high - low) <= ENCLOSED_SPREAD * np.abs(middle)
     enclosed = invalid & complete & one_surface
     return _without_lines(invalid, enclosed | _slivers(depth, enclosed, np.where(enclosed, middle, depth)))
+
+
+def _range_and_median(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The minimum, maximum and median of four (4, h, w) maps, per pixel, where all four are finite.
+
+    The median of four is the mean of the two middle ones, the larger of the
+    pairs' minima and the smaller of their maxima: ``np.median``'s bits (it
+    adds the two middle values and halves the sum in their type) without its
+    sort of every pixel's four values. Where one is NaN the figures are
+    undefined.
+    """
+    low_01, high_01 = np.minimum(values[0], values[1]), np.maximum(values[0], values[1])
+    low_23, high_23 = np.minimum(values[2], values[3]), np.maximum(values[2], values[3])
+    middle = np.maximum(low_01, low_23)
+    middle += np.minimum(high_01, high_23)
+    middle /= 2
+    return np.minimum(low_01, low_23, out=low_01), np.maximum(high_01, high_23, out=high_01), middle
 
 
 def _without_lines(invalid: np.ndarray, enclosed: np.ndarray) -> np.ndarray:
@@ -148,14 +164,14 @@ def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np
     return ~out[labels]
 
 
-def _nearest_along_rows(depth: np.ndarray, reach: float) -> np.ndarray:
-    """Per pixel, the depth of the nearest valid pixel at or to its left within ``reach`` pixels (NaN if none)."""
-    rows, cols = depth.shape
-    valid = np.isfinite(depth)
-    at = np.arange(cols, dtype=np.int32)[None, :]        # int32 column numbers: half numpy's default int64
-    last = np.maximum.accumulate(np.where(valid, at, np.int32(-1)), axis=1)
+def _nearest_along(depth: np.ndarray, reach: float, axis: int) -> np.ndarray:
+    """Per pixel, the depth of the nearest valid pixel at or before it along ``axis`` (1: to its left, 0: above it)
+    within ``reach`` pixels (NaN if none); each line along the axis is one vectorised pass, the image not transposed."""
+    n = depth.shape[axis]
+    at = np.arange(n, dtype=np.int32).reshape((1, n) if axis == 1 else (n, 1))   # int32: half numpy's default int64
+    last = np.maximum.accumulate(np.where(np.isfinite(depth), at, np.int32(-1)), axis=axis)
     found = (last >= 0) & (at - last <= reach)
-    picked = depth[np.arange(rows)[:, None], np.maximum(last, 0)]
+    picked = np.take_along_axis(depth, np.maximum(last, 0), axis=axis)
     return np.where(found, picked, np.nan)
 
 
