@@ -187,13 +187,18 @@ def edge_offsets(m: InputMeasures, guide: np.ndarray) -> tuple[np.ndarray, np.nd
         luma = resize(luma, shape, cv2.INTER_AREA)
     scale = shape[0] / m.depth.shape[0]
     band = resize(band_lr.astype(np.uint8), shape, cv2.INTER_NEAREST) > 0
-    depth = cv2.GaussianBlur(resize(m.filled, shape, cv2.INTER_LINEAR), (0, 0), max(1.0, DEPTH_BLUR * scale))
-    gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
+    # each image-sized temporary is let go as soon as it is used (the call's peak memory on a x2 input)
+    luma = cv2.GaussianBlur(luma, (0, 0), GUIDE_BLUR)
+    edges_x, edges_y = cv2.Sobel(luma, cv2.CV_32F, 1, 0), cv2.Sobel(luma, cv2.CV_32F, 0, 1)
+    del luma
     # numpy's exactly rounded square root, not cv2.magnitude: its vector and scalar paths round differently, and
     # where they meet moves with the arrays' alignment, so the offsets changed from one process to the next
+    edges = _hypot(edges_x, edges_y)
+    del edges_x, edges_y
+    depth = cv2.GaussianBlur(resize(m.filled, shape, cv2.INTER_LINEAR), (0, 0), max(1.0, DEPTH_BLUR * scale))
+    gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
+    del depth
     magnitude = _hypot(gx, gy)
-    luma = cv2.GaussianBlur(luma, (0, 0), GUIDE_BLUR)
-    edges = _hypot(cv2.Sobel(luma, cv2.CV_32F, 1, 0), cv2.Sobel(luma, cv2.CV_32F, 0, 1))
 
     from ._offsets import jump_offsets
 
