@@ -222,17 +222,17 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray,
     """
     import cv2
 
-    from .. import _resample
+    from .. import _resample, _wls
 
     if neighbourhood is None:
         kernel = np.ones((3, 3), np.uint8)
         neighbourhood = cv2.erode(depth, kernel), cv2.dilate(depth, kernel)
     up = resize(depth, shape, cv2.INTER_CUBIC)
-    # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid (the call's peak
-    # memory: one image-sized array beside the result)
+    # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid, the enlarged jump map
+    # in a scratch array of the solver's (free between solves): no image-sized array beside the result
     (h, w), (H, W) = depth.shape, shape
-    _resample.clip_toward(up, resize(jump, shape, cv2.INTER_LINEAR), *neighbourhood,
-                          nearest_index(h, H), nearest_index(w, W))
+    jump_full = cv2.resize(jump, (W, H), dst=_wls.scratch(shape, 1)[0], interpolation=cv2.INTER_LINEAR)
+    _resample.clip_toward(up, jump_full, *neighbourhood, nearest_index(h, H), nearest_index(w, W))
     return up
 
 
@@ -393,7 +393,9 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds,
         ratio = LAMBDA_FIRST * (LAMBDA_LAST / LAMBDA_FIRST) ** (k / max(1, p.iterations - 1))
         residual = m.filled - reduce(x, (h, w), m.footprint)
         residual[~m.valid] = 0.0
-        x += resize(residual, grid.shape, cv2.INTER_LANCZOS4)
+        # its enlargement in a scratch array of the solver's (free between solves): no more memory
+        x += cv2.resize(residual, grid.shape[::-1], dst=_wls.scratch(grid.shape, 1)[0],
+                        interpolation=cv2.INTER_LANCZOS4)
         if k < p.iterations - 1:
             clip_to_bounds(x, residual_bounds)
         if p.gradient_levels > 0:
@@ -427,14 +429,18 @@ def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) ->
 
     from .. import _wls
 
-    grid = _coarse(solver, m) or solver
-    flat = _wls.smooth(resize(m.filled, grid.shape, cv2.INTER_LINEAR), grid.flat_x, grid.flat_y,
-                       p.flat_lambda_lr * grid.scale)
+    # the blend's weights on the input's grid first, before the solve's image-sized result exists (peak memory)
     low, high = m.neighbourhood
     local_range = high - low
     edge = np.clip((local_range - EDGE_LOW * m.sigma) / (EDGE_WIDTH * m.sigma + 1e-6 * m.span), 0.0, 1.0)
     edge = cv2.dilate(edge.astype(np.float32), np.ones((3, 3), np.uint8))
     edge = (1.0 - (1.0 - edge) * noise_share(m.sigma_levels)).astype(np.float32)
+    del local_range
+    grid = _coarse(solver, m) or solver
+    # the solve's start in a scratch array of the solver's (free between solves): smooth() copies it
+    start = cv2.resize(m.filled, grid.shape[::-1], dst=_wls.scratch(grid.shape, 1)[0], interpolation=cv2.INTER_LINEAR)
+    flat = _wls.smooth(start, grid.flat_x, grid.flat_y, p.flat_lambda_lr * grid.scale)
+    del start
     # the two image-sized temporaries in the solver's scratch arrays (free between solves): no more memory
     flat_full, edge_full = _wls.scratch(solver.shape)
     if grid is not solver:

@@ -133,13 +133,16 @@ def blend_fallback(result: np.ndarray, trust: np.ndarray, m: InputMeasures) -> n
     """
     import cv2
 
+    from .. import _wls
+
     h, w = m.depth.shape
-    trust = np.clip((trust - TRUST_FLOOR) / (1.0 - TRUST_FLOOR), 0.0, 1.0)
-    trust = resize(trust, result.shape, cv2.INTER_LINEAR)
     reduced = reduce(result, (h, w), m.footprint)
     share = noise_share(max(0.0, noise_levels(m) - NOISE_FLOOR))
     reduced = np.where(m.valid, reduced + (1.0 - share) * (m.filled - reduced), reduced).astype(np.float32)
     base = clamped_bicubic(reduced, result.shape, m.jump)
+    # the enlarged trust in a scratch array of the solver's, once the fallback has made its own use of it
+    trust = np.clip((trust - TRUST_FLOOR) / (1.0 - TRUST_FLOOR), 0.0, 1.0).astype(np.float32, copy=False)
+    trust = cv2.resize(trust, result.shape[::-1], dst=_wls.scratch(result.shape, 1)[0], interpolation=cv2.INTER_LINEAR)
     # result <- base + trust * (result - base), in place
     result -= base
     result *= trust

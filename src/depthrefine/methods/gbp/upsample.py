@@ -88,8 +88,9 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
     result = flat_blend(result, measures, solver, p)                           # 4
-    # the solves' weights are done with: free them before step 5 makes its own (the call's peak memory)
-    smoothed_guide, scale = solver.guide, solver.scale
+    # the solves' weights are done with: free them before step 5 makes its own (the call's peak memory); the
+    # smoothed guide is kept only for step 6
+    smoothed_guide, scale = (solver.guide if p.snap_edges else None), solver.scale
     del solver
     if keep is not None:
         keep.update(guided=result, trust=None)
