@@ -36,10 +36,12 @@ Usage::
 
 A slow method gets fewer repeats (at least 3) so that it takes about
 ``--budget`` seconds per input; the table says how many it got. Peak memory
-is measured in a fresh subprocess per input and method: the kernel's peak
-resident set (VmHWM) is reset just before the call (``/proc/self/clear_refs``)
-and read just after; where that is not possible, ``ru_maxrss`` minus the
-resident set before the call is used.
+is measured in a fresh subprocess per input and method, after a small first
+call through the same code (a 32x32 input with holes: the modules a call loads
+on first use, SciPy's for the holes, are the process's, not the call's): the
+kernel's peak resident set (VmHWM) is reset just before the call
+(``/proc/self/clear_refs``) and read just after; where that is not possible,
+``ru_maxrss`` minus the resident set before the call is used.
 """
 
 from __future__ import annotations
@@ -177,14 +179,9 @@ import json, resource, sys, re
 import numpy as np
 sys.path[:0] = {path!r}
 import depthrefine
-from benchmarks.bench_speed import INPUTS
+from benchmarks.bench_speed import INPUTS, warm_up
 depth, rgb = INPUTS[{name!r}]()
-# a small first call through the same code, holes included (one enclosed, one at the border): the modules a call
-# loads on first use (SciPy's for the holes: 37 MB) load once per process, and are not the call's memory
-warm = (100 + np.arange(32 * 32).reshape(32, 32) % 7).astype(depth.dtype)
-warm[16, 16] = warm[0, 0] = 0
-depthrefine.refine(warm, rgb[:32 * (rgb.shape[0] // depth.shape[0]), :32 * (rgb.shape[1] // depth.shape[1])],
-                   method={method!r})
+warm_up(depth, rgb, {method!r})
 def status(key):
     with open('/proc/self/status') as fh:
         for line in fh:
@@ -207,6 +204,22 @@ out = depthrefine.refine(depth, rgb, method={method!r})
 peak = status('VmHWM:') if how.startswith('VmHWM') else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 print(json.dumps(dict(added=peak - before, out_bytes=out.nbytes, how=how)))
 """
+
+
+def warm_up(depth: np.ndarray, rgb: np.ndarray, method: str) -> None:
+    """A small first call of ``method`` through the code a call on ``depth``, ``rgb`` takes, holes included.
+
+    A 32x32 input of ``depth``'s type with one enclosed hole and one at the
+    border, on a crop of ``rgb`` at the same factor: the modules a call loads
+    on first use (SciPy's for the holes: 37 MB resident) load once per
+    process, and are not counted as the measured call's memory; the call's
+    own arrays (the solver's scratch arrays among them) are, as they are
+    made for the larger input.
+    """
+    warm = (100 + np.arange(32 * 32).reshape(32, 32) % 7).astype(depth.dtype)
+    warm[16, 16] = warm[0, 0] = 0
+    depthrefine.refine(warm, rgb[:32 * (rgb.shape[0] // depth.shape[0]), :32 * (rgb.shape[1] // depth.shape[1])],
+                       method=method)
 
 
 def peak_memory(name: str, method: str) -> dict:

@@ -15,7 +15,9 @@ Usage::
 
 ``--memory`` says instead, per step, the peak of the memory the call holds
 (``tracemalloc``: NumPy's and OpenCV's arrays), in multiples of the output
-depth map's bytes, between the end of the step before and the end of this one.
+depth map's bytes, between the end of the step before and the end of this one; after a
+small first call (``bench_speed.warm_up``), so the arrays the call makes for this input (the
+solver's scratch arrays among them) count, as in ``bench_speed.py``'s peak memory.
 
 ``--cpu`` runs everything in one thread (OpenCV and the solver's threads
 off) and times the CPU seconds of that thread (``time.thread_time``): on a
@@ -36,9 +38,9 @@ from collections import defaultdict
 import depthrefine
 
 try:
-    from benchmarks.bench_speed import INPUTS
+    from benchmarks.bench_speed import INPUTS, warm_up
 except ImportError:  # run as a script from benchmarks/
-    from bench_speed import INPUTS
+    from bench_speed import INPUTS, warm_up
 
 #: Short names of the inputs of :data:`bench_speed.INPUTS`.
 SHORT = {"thesis": "thesis geometry 176x144 x7 -> 1232x1008", "art4": "Middlebury Art x4 (344x272 -> 1376x1088)",
@@ -157,7 +159,7 @@ def memory_profile(depth, rgb, method: str) -> tuple[dict[tuple[str, ...], int],
     """Peak traced bytes per step path (above the call's start), the call's peak, and the output's bytes."""
     import tracemalloc
 
-    depthrefine.refine(depth, rgb, method=method)  # warm-up
+    warm_up(depth, rgb, method)     # as bench_speed's: the solver's scratch arrays for this input count
     tracemalloc.start()
     start = tracemalloc.get_traced_memory()[0]
     tracer = StepMemory(start)
