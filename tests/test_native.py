@@ -182,14 +182,18 @@ def test_the_clips_are_numbas():
 @needs_c
 @pytest.mark.parametrize("quantum", [0.0, 40.0, 400.0])   # values rounded to steps: profiles and ridges hold ties
 @pytest.mark.parametrize("reach", [2, 4, 9])
-def test_the_offset_search_is_numbas(reach, quantum):
+@pytest.mark.parametrize("centre", [(55.3, 41.7), (8.3, 80.2)], ids=["inside", "cut by the border"])
+def test_the_offset_search_is_numbas(reach, quantum, centre):
+    """The C search (four samples at a time with AVX2, where built with it) gives numba's offsets to the bit;
+    with the disc cut by the image's border, the profiles reach beyond it and are clamped."""
     import cv2
 
     yy, xx = np.mgrid[:90, :120]
-    depth = np.where((xx - 55.3) ** 2 + (yy - 41.7) ** 2 < 30 ** 2, 900.0, 2000.0).astype(np.float32)
+    cx, cy = centre
+    depth = np.where((xx - cx) ** 2 + (yy - cy) ** 2 < 30 ** 2, 900.0, 2000.0).astype(np.float32)
     depth = cv2.GaussianBlur(depth, (0, 0), 2.0)
     rng = np.random.default_rng(reach)
-    luma = np.where((xx - 58.1) ** 2 + (yy - 39.2) ** 2 < 29 ** 2, 60.0, 190.0) + rng.normal(0, 4, depth.shape)
+    luma = np.where((xx - cx - 2.8) ** 2 + (yy - cy + 2.5) ** 2 < 29 ** 2, 60.0, 190.0) + rng.normal(0, 4, depth.shape)
     luma = cv2.GaussianBlur(luma.astype(np.float32), (0, 0), 1.0)
     gx, gy = cv2.Sobel(depth, cv2.CV_32F, 1, 0), cv2.Sobel(depth, cv2.CV_32F, 0, 1)
     magnitude = np.sqrt(gx * gx + gy * gy)
@@ -206,7 +210,7 @@ def test_the_offset_search_is_numbas(reach, quantum):
                 np.full(total, np.nan), np.zeros(band.shape[0], np.int64))
 
     jit, c = _both("search", "depthrefine.methods.gbp._offsets_jit", make, (0, band.shape[0]))
-    assert jit[10].sum() > 50                                   # the search found edges
+    assert jit[10].sum() > 10                                   # the search found edges
     for a, b in zip(jit[8:], c[8:]):
         assert _same(a, b)
 

@@ -20,6 +20,9 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 
 #ifndef DEPTHREFINE_KERNELS_SOURCE
 #define DEPTHREFINE_KERNELS_SOURCE ""
@@ -392,6 +395,38 @@ static inline double bilinear(const float *image, index_t rows, index_t cols, do
     return top + fy * (bottom - top);
 }
 
+#if defined(__AVX2__)
+/* bilinear() at the four points (j + t nx, i + t ny) of the four t, into out[0..3]: each lane does
+ * bilinear()'s operations in its order and types (the clamps as its selections, floor, the float32
+ * differences), so the values are its bits (t = +-1 gives j +- nx exactly). The image must have fewer than
+ * 2**31 pixels. */
+static inline void bilinear4(const float *image, index_t rows, index_t cols, index_t j, index_t i, float nx,
+                             float ny, __m256d t, double *out)
+{
+    const __m256d zero = _mm256_setzero_pd();
+    const __m256d last_x = _mm256_set1_pd((double)cols - 1.0), last_y = _mm256_set1_pd((double)rows - 1.0);
+    __m256d x = _mm256_add_pd(_mm256_set1_pd((double)j), _mm256_mul_pd(t, _mm256_set1_pd((double)nx)));
+    __m256d y = _mm256_add_pd(_mm256_set1_pd((double)i), _mm256_mul_pd(t, _mm256_set1_pd((double)ny)));
+    /* x = min_d(max_d(x, 0), cols - 1): max_d(a, b) is b only when b > a, min_d(a, b) only when b < a */
+    x = _mm256_blendv_pd(x, zero, _mm256_cmp_pd(zero, x, _CMP_GT_OQ));
+    x = _mm256_blendv_pd(x, last_x, _mm256_cmp_pd(last_x, x, _CMP_LT_OQ));
+    y = _mm256_blendv_pd(y, zero, _mm256_cmp_pd(zero, y, _CMP_GT_OQ));
+    y = _mm256_blendv_pd(y, last_y, _mm256_cmp_pd(last_y, y, _CMP_LT_OQ));
+    __m256d fx0 = _mm256_floor_pd(x), fy0 = _mm256_floor_pd(y);
+    __m128i x0 = _mm256_cvttpd_epi32(fx0), y0 = _mm256_cvttpd_epi32(fy0);
+    __m128i x1 = _mm_min_epi32(_mm_add_epi32(x0, _mm_set1_epi32(1)), _mm_set1_epi32((int)(cols - 1)));
+    __m128i y1 = _mm_min_epi32(_mm_add_epi32(y0, _mm_set1_epi32(1)), _mm_set1_epi32((int)(rows - 1)));
+    __m256d fx = _mm256_sub_pd(x, fx0), fy = _mm256_sub_pd(y, fy0);
+    __m128i width = _mm_set1_epi32((int)cols);
+    __m128i r0 = _mm_mullo_epi32(y0, width), r1 = _mm_mullo_epi32(y1, width);
+    __m128 a = _mm_i32gather_ps(image, _mm_add_epi32(r0, x0), 4), b = _mm_i32gather_ps(image, _mm_add_epi32(r0, x1), 4);
+    __m128 c = _mm_i32gather_ps(image, _mm_add_epi32(r1, x0), 4), d = _mm_i32gather_ps(image, _mm_add_epi32(r1, x1), 4);
+    __m256d top = _mm256_add_pd(_mm256_cvtps_pd(a), _mm256_mul_pd(fx, _mm256_cvtps_pd(_mm_sub_ps(b, a))));
+    __m256d bottom = _mm256_add_pd(_mm256_cvtps_pd(c), _mm256_mul_pd(fx, _mm256_cvtps_pd(_mm_sub_ps(d, c))));
+    _mm256_storeu_pd(out, _mm256_add_pd(top, _mm256_mul_pd(fy, _mm256_sub_pd(bottom, top))));
+}
+#endif
+
 /* Rows i0:i1 of the search (see jump_offsets): row i's results go to offsets[row_start[i]:] in column order,
  * their count to found[i]. Returns -1 when out of memory. */
 EXPORT int dr_search(const uint8_t *band, const float *magnitude, const float *gx, const float *gy,
@@ -400,6 +435,9 @@ EXPORT int dr_search(const uint8_t *band, const float *magnitude, const float *g
                      index_t i1)
 {
     const int64_t steps = 2 * reach + 1;
+#if defined(__AVX2__)
+    const int small_image = rows * cols < ((index_t)1 << 31);   /* bilinear4's int32 offsets */
+#endif
     double *profile = (double *)malloc(sizeof(double) * (size_t)steps);
     if (!profile) return -1;
     for (index_t i = i0; i < i1; i++) {
@@ -408,15 +446,33 @@ EXPORT int dr_search(const uint8_t *band, const float *magnitude, const float *g
             float here = magnitude[i * cols + j];
             if (!band[i * cols + j] || here <= 0.0f) continue;
             float nx = gx[i * cols + j] / here, ny = gy[i * cols + j] / here;
+#if defined(__AVX2__)
+            if (small_image) {                           /* both neighbours along the gradient at once */
+                double beside[4];
+                bilinear4(magnitude, rows, cols, j, i, nx, ny, _mm256_set_pd(-1.0, 1.0, -1.0, 1.0), beside);
+                if ((double)here < beside[0] || (double)here < beside[1]) continue;
+            } else
+#endif
             if ((double)here < bilinear(magnitude, rows, cols, (double)j + (double)nx, (double)i + (double)ny)
                 || (double)here < bilinear(magnitude, rows, cols, (double)j - (double)nx, (double)i - (double)ny))
                 continue;                                /* not on the ridge of the depth gradient */
-            double total = 0.0;
-            int64_t peak = 0;
-            for (int64_t k = 0; k < steps; k++) {
+            int64_t k = 0;
+#if defined(__AVX2__)
+            if (small_image)                             /* four samples at a time, the same operations */
+                for (; k + 4 <= steps; k += 4) {
+                    double t = (double)(k - reach);
+                    bilinear4(edges, rows, cols, j, i, nx, ny, _mm256_set_pd(t + 3.0, t + 2.0, t + 1.0, t),
+                              profile + k);
+                }
+#endif
+            for (; k < steps; k++) {
                 int64_t t = k - reach;
                 profile[k] = bilinear(edges, rows, cols, (double)j + (double)t * (double)nx,
                                       (double)i + (double)t * (double)ny);
+            }
+            double total = 0.0;
+            int64_t peak = 0;
+            for (k = 0; k < steps; k++) {
                 total += profile[k];
                 if (profile[k] > profile[peak]) peak = k;
             }
