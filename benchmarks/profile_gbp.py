@@ -49,13 +49,15 @@ SHORT = {"thesis": "thesis geometry 176x144 x7 -> 1232x1008", "art4": "Middlebur
 
 #: (module, function names) wrapped in timers; a name missing from a module is skipped.
 STEPS = {
-    "depthrefine.methods.gbp.upsample": ("measure_input", "make_solver", "local_bounds", "back_project",
-                                         "flat_blend", "measured_trust", "blend_fallback", "clip_to_bounds"),
+    "depthrefine.methods.gbp.upsample": ("measure_input", "thin_if_fattened", "make_solver", "local_bounds",
+                                         "back_project", "flat_blend", "measured_trust", "blend_fallback",
+                                         "clip_to_bounds"),
     "depthrefine.methods.gbp.trust": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
                                       "clamped_bicubic", "noise_levels", "reduce"),
     "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce"),
-    "depthrefine.methods.gbp.fast": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
-                                     "clamped_bicubic", "reduce", "blend_fallback", "measured_trust", "resize"),
+    "depthrefine.methods.gbp.fast": ("measure_input", "thin_if_fattened", "make_solver", "local_bounds",
+                                     "back_project", "flat_blend", "clamped_bicubic", "reduce", "blend_fallback",
+                                     "measured_trust", "resize"),
     "depthrefine.methods._wls": ("color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth",
                                  "smooth_with_gradient"),
     "depthrefine.methods._resample": ("guided_enlarge",),

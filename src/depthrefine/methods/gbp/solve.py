@@ -33,9 +33,8 @@ from .measure import InputMeasures, noise_share
 if TYPE_CHECKING:
     from .params import GbpParams
 
-__all__ = ["Solver", "Bounds", "make_solver", "smoothed_guide", "clamped_bicubic", "local_bounds", "nearest_index", "clip_to_bounds",
-           "back_project", "detail_lambda",
-           "flat_blend", "reduce", "resize", "work_shape"]
+__all__ = ["Solver", "Bounds", "make_solver", "smoothed_guide", "clamped_bicubic", "local_bounds", "nearest_index",
+           "clip_to_bounds", "back_project", "detail_lambda", "flat_blend", "reduce", "resize", "work_shape"]
 
 # ---- the detail solve
 #: The smoothing falls geometrically over the rounds, from this many times its nominal value ...
