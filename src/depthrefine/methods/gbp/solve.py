@@ -218,6 +218,9 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray,
     ``depth`` is hole-filled; ``jump`` is its jump map (:func:`.measure.near_jump`);
     ``neighbourhood``, when given, is the (min, max) of ``depth``'s 3x3
     neighbourhoods already measured (:attr:`.measure.InputMeasures.neighbourhood`).
+    The enlarged jump map goes to a scratch array of the solver's
+    (:func:`~depthrefine.methods._wls.scratch`), so a caller must not hold
+    one across this call.
     """
     import cv2
 
