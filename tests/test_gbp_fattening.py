@@ -149,6 +149,44 @@ def test_gbp_measures_in_full_only_where_the_cheap_check_does_not_clearly_say_re
     assert np.array_equal(upsample_gbp(registered_lr, scene.rgb_hr), checked) and len(calls) == 3
 
 
+def _half_fattened(radius_fattened: int, radius_registered: int) -> tuple[np.ndarray, np.ndarray]:
+    """Four discs grown by 2 depth pixels (8 color pixels) beside four registered ones: x4 block means, the guide."""
+    import cv2
+
+    n = 512
+    rgb = np.full((n, n, 3), (90, 110, 130), np.uint8)
+    depth = np.full((n, n), 40.0, np.float32)
+    for x, y in ((0.2, 0.25), (0.5, 0.22), (0.8, 0.25), (0.2, 0.75)):
+        cv2.circle(rgb, (int(x * n), int(y * n)), radius_fattened, (230, 60, 40), -1)
+        cv2.circle(depth, (int(x * n), int(y * n)), radius_fattened + 8, 200.0, -1)
+    for x, y in ((0.5, 0.75), (0.8, 0.75), (0.35, 0.5), (0.65, 0.5)):
+        cv2.circle(rgb, (int(x * n), int(y * n)), radius_registered, (40, 200, 90), -1)
+        cv2.circle(depth, (int(x * n), int(y * n)), radius_registered, 150.0, -1)
+    return _footprint_means(depth, 4), rgb
+
+
+@pytest.mark.parametrize("radii", [(41, 52), (45, 61)])
+def test_the_check_does_not_skip_where_half_the_objects_are_fattened(radii, monkeypatch):
+    """Half the outline fattened, half registered: each sector's median is a toss-up between the two, and the full
+    measure thins (offset 0.73 / 0.54). The medians on the check grid said "clearly registered" (a review found these
+    scenes); the quantiles around them do not, so gbp and gbp-fast give the full measure's result."""
+    from depthrefine.methods.gbp.fast import upsample_gbp_fast
+    from depthrefine.methods.gbp.solve import resize, work_shape
+
+    import cv2
+
+    depth_lr, rgb = _half_fattened(*radii)
+    m = measure_input(as_depth(depth_lr), rgb)
+    assert abs(edge_offset(m, rgb)) >= FATTEN_MIN                          # the full measure thins
+    reduced = resize(rgb, work_shape(depth_lr.shape, rgb.shape[:2], fattening.CHECK_SCALE), cv2.INTER_AREA)
+    assert all(abs(a) <= FATTEN_MIN / 2 for a in fattening.offset_axes(m, reduced))   # the medians alone would skip
+    assert not fattening.clearly_unfattened(m, reduced)
+    checked = upsample_gbp(depth_lr, rgb), upsample_gbp_fast(depth_lr, rgb)
+    monkeypatch.setattr(fattening, "clearly_unfattened", lambda m, guide: False)   # always the full measure
+    assert np.array_equal(checked[0], upsample_gbp(depth_lr, rgb))
+    assert np.array_equal(checked[1], upsample_gbp_fast(depth_lr, rgb))
+
+
 def _moved(depth_hr: np.ndarray, dy: int, dx: int) -> np.ndarray:
     """The truth moved by (dy, dx) color pixels, as a miscalibrated depth camera sees it."""
     import cv2

@@ -210,7 +210,7 @@ def test_the_offset_search_is_numbas(reach, quantum, centre):
                 np.full(total, np.nan), np.zeros(band.shape[0], np.int64))
 
     jit, c = _both("search", "depthrefine.methods.gbp._offsets_jit", make, (0, band.shape[0]))
-    assert jit[10].sum() > 10                                   # the search found edges
+    assert jit[10].sum() > (50 if centre == (55.3, 41.7) else 10)      # the search found edges
     for a, b in zip(jit[8:], c[8:]):
         assert _same(a, b)
 

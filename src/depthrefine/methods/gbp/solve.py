@@ -187,11 +187,13 @@ def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.
 
 
 def work_shape(depth_shape: tuple[int, int], color_shape: tuple[int, int], work_scale: float) -> tuple[int, int]:
-    """The color grid reduced by an integer factor ``k >= 2``, at least ``work_scale`` x the depth grid.
+    """The color grid reduced by an integer factor ``k >= 2``: the largest that keeps ``work_scale`` x the depth grid.
 
-    An integer factor keeps OpenCV's area reduction of the guide on its fast
-    path (a fractional one took ten times longer). A color grid less than
-    twice the depth grid is not reduced.
+    ``k`` is ``color / depth // work_scale``, at least 2 (so at x4 with
+    ``work_scale`` 4 the grid is 2 color pixels per depth pixel). An integer
+    factor keeps OpenCV's area reduction of the guide on its fast path (a
+    fractional one took ten times longer). A color grid less than ``k``
+    times the depth grid is not reduced.
 
     Examples
     --------
