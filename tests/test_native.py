@@ -231,6 +231,48 @@ def test_the_gradient_magnitude_is_numpys_expression_to_the_bit():
 
 
 @needs_c
+@pytest.mark.parametrize("shape", [(1, 9), (9, 1), (37, 53), (64, 300)])
+@pytest.mark.parametrize("reach", [0.0, 1.0, 2.5, 7.0, 1e9])
+def test_the_hole_rays_are_numpys(shape, reach, rng):
+    """The four rays of enclosed_holes (depth of the nearest valid pixel each way within reach) in C, each direction
+    run in two pieces of its rows or columns, give _fill._nearest_along's values to the bit."""
+    from depthrefine._fill import _nearest_along
+
+    depth = (rng.random(shape) * 1000).astype(np.float32)
+    depth[rng.random(shape) < 0.4] = np.nan
+    depth[rng.random(shape) < 0.05] = np.inf
+    depth.flat[:3] = [np.nan, -0.0, np.nan][:depth.size]
+    want = [_nearest_along(depth, reach, axis=1), _nearest_along(depth[:, ::-1], reach, axis=1)[:, ::-1],
+            _nearest_along(depth, reach, axis=0), _nearest_along(depth[::-1], reach, axis=0)[::-1]]
+    c = _native.c_kernels()
+    for direction in range(4):
+        n = shape[0] if direction < 2 else shape[1]
+        out = np.full(shape, 7.0, np.float32)
+        c.nearest_seen(depth, reach, direction, out, 0, n // 2)
+        c.nearest_seen(depth, reach, direction, out, n // 2, n)
+        assert _same(out, np.ascontiguousarray(want[direction], np.float32))
+
+
+@needs_c
+def test_enclosed_holes_are_the_same_without_the_c_kernels(rng, monkeypatch):
+    from depthrefine._fill import enclosed_holes
+
+    yy, xx = np.mgrid[:300, :400]
+    depth = (1000 + 0.5 * xx + 0.2 * yy).astype(np.float32)
+    depth[(xx - 200) ** 2 + (yy - 150) ** 2 < 60 ** 2] += 800           # a near disc
+    depth[rng.random(depth.shape) < 0.02] = np.nan                      # specks
+    depth[100:130, 50:90] = np.nan                                      # a hole in one surface
+    depth[140:160, 130:150] = np.nan                                    # a hole across the disc's rim
+    depth[:, :12] = np.nan                                              # the edge of the view
+    with_c = enclosed_holes(depth)
+    monkeypatch.setenv(_native.ENV, "numba")
+    monkeypatch.setattr(_native, "_loaded", [])
+    assert _native.c_kernels() is None
+    without = enclosed_holes(depth)
+    assert with_c.sum() > 1000 and np.array_equal(with_c, without)
+
+
+@needs_c
 def test_a_wrong_array_is_refused_before_it_reaches_c():
     c = _native.kernels("depthrefine.methods._wls_jit")
     x = np.zeros((4, 6), np.float32)

@@ -27,6 +27,8 @@ def fill_invalid_nearest(depth: np.ndarray) -> np.ndarray:
     return depth[ir, ic]
 
 
+#: Maps from this many pixels on share the rays' C kernel out over threads.
+_PARALLEL_PIXELS = 1 << 16
 #: An unmeasured pixel is inside a surface when a measured pixel lies within this share of the image's larger side
 #: in each of the four directions (left, right, up, down) ...
 ENCLOSED_REACH = 0.1
@@ -72,11 +74,7 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
         return invalid
     reach = ENCLOSED_REACH * max(depth.shape)
     rows = np.asarray(depth)
-    values = np.empty((4, *rows.shape), rows.dtype)         # the depth seen each way, NaN beyond reach
-    values[0] = _nearest_along(rows, reach, axis=1)                              # to the left
-    values[1] = _nearest_along(rows[:, ::-1], reach, axis=1)[:, ::-1]            # to the right
-    values[2] = _nearest_along(rows, reach, axis=0)                              # above
-    values[3] = _nearest_along(rows[::-1], reach, axis=0)[::-1]                  # below
+    values = _rays(rows, reach)                              # the depth seen each way, NaN beyond reach
     with np.errstate(invalid="ignore"):
         complete = np.isfinite(values).all(axis=0)
         low, high, middle = _range_and_median(values)
@@ -162,6 +160,28 @@ def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np
     out[np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]])] = True    # touching the border
     out[0] = True                                                                       # not a group at all
     return ~out[labels]
+
+
+def _rays(depth: np.ndarray, reach: float) -> np.ndarray:
+    """(4, h, w): per pixel, the depth of the nearest valid pixel to its left, right, above and below (itself
+    included) within ``reach`` pixels, NaN where none; depthrefine's C kernel over threads for a float32 map
+    where it is built, else :func:`_nearest_along` (the same values)."""
+    from ._native import c_kernels
+    from ._threads import run_split
+
+    values = np.empty((4, *depth.shape), depth.dtype)
+    c = c_kernels()
+    if c is not None and depth.dtype == np.float32 and depth.ndim == 2:
+        depth = np.ascontiguousarray(depth)
+        for direction in range(4):       # along the rows (left, right): parts of the rows; else of the columns
+            run_split(c.nearest_seen, depth.shape[0] if direction < 2 else depth.shape[1], depth, reach, direction,
+                      values[direction], parallel=depth.size >= _PARALLEL_PIXELS)
+        return values
+    values[0] = _nearest_along(depth, reach, axis=1)                              # to the left
+    values[1] = _nearest_along(depth[:, ::-1], reach, axis=1)[:, ::-1]            # to the right
+    values[2] = _nearest_along(depth, reach, axis=0)                              # above
+    values[3] = _nearest_along(depth[::-1], reach, axis=0)[::-1]                  # below
+    return values
 
 
 def _nearest_along(depth: np.ndarray, reach: float, axis: int) -> np.ndarray:

@@ -40,7 +40,7 @@ __all__ = ["kernels", "c_kernels", "library", "why_not", "describe"]
 ENV = "DEPTHREFINE_KERNELS"
 
 #: The C functions' signatures this module calls: kernels.c's DEPTHREFINE_KERNELS_ABI must say the same.
-ABI = 2
+ABI = 3
 
 _lock = threading.Lock()
 _loaded: list = []          # [library or None, reason it is None]
@@ -95,6 +95,7 @@ def _declare(lib: ctypes.CDLL) -> None:
         "dr_clip_rows": (None, [_p, _i, _c_float, _c_float, _p, _p, _i, _p, _p, _i, _i]),
         "dr_clip_toward_rows": (None, [_p, _i, _p, _p, _p, _i, _p, _p, _i, _i]),
         "dr_hypot_rows": (None, [_p, _p, _p, _i, _i, _i]),
+        "dr_nearest_seen": (ctypes.c_int, [_p, _i, _i, _c_double, ctypes.c_int, _p, _i, _i]),
         "dr_geodesic_sweeps": (None, [_p, _p, _p, _p, _p, _i, _i, _i]),
         "dr_search": (ctypes.c_int, [_p, _p, _p, _p, _p, _i, _i, _c_int64, _c_double, _p, _p, _p, _p, _i, _i]),
     }
@@ -143,8 +144,8 @@ def kernels(jit_module: str) -> ModuleType | SimpleNamespace:
 
 
 def c_kernels() -> SimpleNamespace | None:
-    """The C kernels under the numba kernels' names and arguments (and ``hypot_rows``, whose fallback is numpy's
-    expression), or None when the library is not there."""
+    """The C kernels under the numba kernels' names and arguments (and ``hypot_rows`` and ``nearest_seen``, whose
+    fallbacks are numpy's expressions), or None when the library is not there."""
     lib = library()
     return None if lib is None else _wrappers(lib)
 
@@ -218,6 +219,12 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
             raise TypeError(f"x, y and out must have one shape; got {x.shape}, {y.shape}, {out.shape}")
         lib.dr_hypot_rows(_ptr(x), _ptr(y), _ptr(out), x.shape[1], int(i0), int(i1))
 
+    def nearest_seen(depth, reach, direction, out, k0, k1):
+        if out.shape != depth.shape:
+            raise TypeError(f"out must have depth's shape {depth.shape}; got {out.shape}")
+        _check(lib.dr_nearest_seen(_ptr(depth), depth.shape[0], depth.shape[1], float(reach), int(direction),
+                                   _ptr(out), int(k0), int(k1)))
+
     def sweeps(cost_x, cost_y, free, distance, source, passes):
         if not cost_x.shape == cost_y.shape == free.shape == distance.shape == source.shape:
             raise TypeError("cost_x, cost_y, free, distance and source must have one shape")
@@ -233,6 +240,6 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
     _namespace.append(SimpleNamespace(
         sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
         edge_weight_rows=edge_weight_rows, depth_weight_rows=depth_weight_rows, enlarge_rows=enlarge_rows,
-        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, sweeps=sweeps, search=search,
-        expf32=lib.dr_exp_f32))
+        clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, nearest_seen=nearest_seen,
+        sweeps=sweeps, search=search, expf32=lib.dr_exp_f32))
     return _namespace[0]

@@ -29,7 +29,7 @@
 #endif
 
 /* The functions' signatures, checked by the loader (depthrefine._native.ABI): raise it with any change of them. */
-#define DEPTHREFINE_KERNELS_ABI 2
+#define DEPTHREFINE_KERNELS_ABI 3
 
 #if defined(_MSC_VER) && !defined(__clang__)
 #define restrict __restrict     /* MSVC knows C99's restrict only with /std:c11 */
@@ -376,6 +376,53 @@ static void hypot_row(float *restrict out, const float *restrict x, const float 
 EXPORT void dr_hypot_rows(const float *x, const float *y, float *out, index_t cols, index_t i0, index_t i1)
 {
     for (index_t i = i0; i < i1; i++) hypot_row(out + i * cols, x + i * cols, y + i * cols, cols);
+}
+
+/* ---- the hole filling's rays (_fill.py) ---- */
+
+/* The depth of the nearest finite pixel seen from each pixel of a rows x cols float32 map in one direction
+ * (0 to the left, 1 to the right, 2 above, 3 below; the pixel itself included) within reach pixels, else NaN,
+ * into out: _fill._nearest_along's values. Rows k0:k1 for directions 0 and 1, columns k0:k1 for 2 and 3. */
+EXPORT int dr_nearest_seen(const float *depth, index_t rows, index_t cols, double reach, int direction, float *out,
+                           index_t k0, index_t k1)
+{
+    const float none = NAN;
+    if (direction < 2) {
+        for (index_t i = k0; i < k1; i++) {
+            const float *row = depth + i * cols;
+            float *out_row = out + i * cols;
+            index_t last = -1;
+            if (direction == 0) {
+                for (index_t j = 0; j < cols; j++) {
+                    if (isfinite(row[j])) last = j;
+                    out_row[j] = last >= 0 && (double)(j - last) <= reach ? row[last] : none;
+                }
+            } else {
+                for (index_t j = cols - 1; j >= 0; j--) {
+                    if (isfinite(row[j])) last = j;
+                    out_row[j] = last >= 0 && (double)(last - j) <= reach ? row[last] : none;
+                }
+            }
+        }
+        return 0;
+    }
+    if (k1 <= k0) return 0;
+    index_t *last = (index_t *)malloc(sizeof(index_t) * (size_t)(k1 - k0));
+    if (!last) return -1;
+    for (index_t j = k0; j < k1; j++) last[j - k0] = -1;
+    for (index_t step = 0; step < rows; step++) {
+        index_t i = direction == 2 ? step : rows - 1 - step;
+        const float *row = depth + i * cols;
+        float *out_row = out + i * cols;
+        for (index_t j = k0; j < k1; j++) {
+            if (isfinite(row[j])) last[j - k0] = i;
+            index_t seen = last[j - k0];
+            double distance = direction == 2 ? (double)(i - seen) : (double)(seen - i);
+            out_row[j] = seen >= 0 && distance <= reach ? depth[seen * cols + j] : none;
+        }
+    }
+    free(last);
+    return 0;
 }
 
 /* ---- step 1b's per-pixel search (methods/gbp/_offsets_jit.py) ---- */
