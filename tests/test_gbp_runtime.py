@@ -7,7 +7,7 @@ launch parallel kernels at once, and whose GNU OpenMP layer kills a child
 forked after the parent used it. These cases guard against a return of
 either: each runs in a fresh interpreter per numba threading layer; the
 images are above the size where the solver starts threads
-(``_wls._PARALLEL_PIXELS``).
+(``_threads.PARALLEL_PIXELS``).
 """
 
 from __future__ import annotations

@@ -88,8 +88,10 @@ def test_small_images_solved_in_the_calling_thread_give_the_same_bits(monkeypatc
         wx, wy = _wls.color_weights(guide, 4.0)
         return _wls.smooth(src, *_wls.depth_weights(src, 3.0, wx, wy), 25.0)
 
+    from depthrefine import _threads
+
     threaded = run()
-    monkeypatch.setattr(_wls, "_PARALLEL_PIXELS", 10**12)
+    monkeypatch.setattr(_threads, "PARALLEL_PIXELS", 10**12)
     assert not _wls._parallel(src.shape)
     assert run().tobytes() == threaded.tobytes()
 

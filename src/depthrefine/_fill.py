@@ -27,8 +27,6 @@ def fill_invalid_nearest(depth: np.ndarray) -> np.ndarray:
     return depth[ir, ic]
 
 
-#: Maps from this many pixels on share the rays' C kernel out over threads.
-_PARALLEL_PIXELS = 1 << 16
 #: An unmeasured pixel is inside a surface when a measured pixel lies within this share of the image's larger side
 #: in each of the four directions (left, right, up, down) ...
 ENCLOSED_REACH = 0.1
@@ -167,7 +165,7 @@ def _rays(depth: np.ndarray, reach: float) -> np.ndarray:
     included) within ``reach`` pixels, NaN where none; depthrefine's C kernel over threads for a float32 map
     where it is built, else :func:`_nearest_along` (the same values)."""
     from ._native import c_kernels
-    from ._threads import run_split
+    from ._threads import run_split, worth_splitting
 
     values = np.empty((4, *depth.shape), depth.dtype)
     c = c_kernels()
@@ -175,7 +173,7 @@ def _rays(depth: np.ndarray, reach: float) -> np.ndarray:
         depth = np.ascontiguousarray(depth)
         for direction in range(4):       # along the rows (left, right): parts of the rows; else of the columns
             run_split(c.nearest_seen, depth.shape[0] if direction < 2 else depth.shape[1], depth, reach, direction,
-                      values[direction], parallel=depth.size >= _PARALLEL_PIXELS)
+                      values[direction], parallel=worth_splitting(depth.size))
         return values
     values[0] = _nearest_along(depth, reach, axis=1)                              # to the left
     values[1] = _nearest_along(depth[:, ::-1], reach, axis=1)[:, ::-1]            # to the right

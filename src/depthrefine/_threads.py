@@ -20,7 +20,11 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 from typing import Callable
 
-__all__ = ["run_split", "threads", "set_threads"]
+__all__ = ["run_split", "threads", "set_threads", "worth_splitting", "PARALLEL_PIXELS"]
+
+#: Work on images of fewer pixels runs in the calling thread: starting the workers costs more than a small
+#: image's whole pass.
+PARALLEL_PIXELS = 1 << 16
 
 
 def _default_threads() -> int:
@@ -77,6 +81,17 @@ def set_threads(count: int | None) -> int | None:
     previous = _thread_cap
     _thread_cap = None if count is None else max(1, int(count))
     return previous
+
+
+def worth_splitting(pixels: int) -> bool:
+    """Whether a kernel pass over an image of ``pixels`` pixels pays for its threads (:data:`PARALLEL_PIXELS`).
+
+    Examples
+    --------
+    >>> worth_splitting(1280 * 720), worth_splitting(64 * 64)
+    (True, False)
+    """
+    return pixels >= PARALLEL_PIXELS
 
 
 def _workers(count: int) -> ThreadPoolExecutor:

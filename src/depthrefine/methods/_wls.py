@@ -52,7 +52,7 @@ import threading
 import numpy as np
 
 from .._native import kernels
-from .._threads import run_split
+from .._threads import run_split, worth_splitting
 from .._validate import check_int, check_number
 
 __all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_smooth", "smooth_with_gradient",
@@ -60,8 +60,6 @@ __all__ = ["color_weights", "depth_weights", "edge_weights", "smooth", "guided_s
 
 #: Columns (rows) solved together by one thread (one vectorised sweep).
 _BLOCK = 64
-#: Images of fewer pixels are solved in the calling thread.
-_PARALLEL_PIXELS = 1 << 16
 #: The largest coupling ``lam * w`` of two neighbours: larger ones (and an infinite ``lam``) count as this.
 #: At it the two are already tied to float32 precision (their gap shrinks as ``1 / sqrt(lam * w)``).
 MAX_COUPLING = 1e30
@@ -78,8 +76,8 @@ def _blocks(n: int) -> int:
 
 
 def _parallel(shape: tuple[int, ...]) -> bool:
-    """Threads pay off only on larger images (starting them costs more than a small image's whole solve)."""
-    return shape[0] * shape[1] >= _PARALLEL_PIXELS
+    """Threads pay off only on larger images (:func:`depthrefine._threads.worth_splitting`)."""
+    return worth_splitting(shape[0] * shape[1])
 
 
 @functools.lru_cache(maxsize=8)
