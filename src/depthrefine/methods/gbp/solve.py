@@ -34,7 +34,8 @@ if TYPE_CHECKING:
     from .params import GbpParams
 
 __all__ = ["Solver", "Bounds", "make_solver", "smoothed_guide", "clamped_bicubic", "local_bounds", "nearest_index",
-           "clip_to_bounds", "back_project", "detail_lambda", "flat_blend", "reduce", "resize", "work_shape"]
+           "clip_to_bounds", "back_project", "detail_lambda", "flat_blend", "reduce", "resize", "resize_to_scratch",
+           "work_shape"]
 
 # ---- the detail solve
 #: The smoothing falls geometrically over the rounds, from this many times its nominal value ...
@@ -186,6 +187,19 @@ def resize(image: np.ndarray, shape: tuple[int, int], interpolation: int) -> np.
     return cv2.resize(image, (shape[1], shape[0]), interpolation=interpolation)
 
 
+def resize_to_scratch(image: np.ndarray, shape: tuple[int, int], interpolation: int, slot: int = 0) -> np.ndarray:
+    """:func:`resize` into scratch array ``slot`` (0 or 1) of the solver's for ``shape``: no new image-sized array.
+
+    For a float32 temporary between two solves (:func:`depthrefine.methods._wls.scratch`): the next solve in
+    this thread overwrites it, and two held at once need the two slots.
+    """
+    import cv2
+
+    from .. import _wls
+
+    return cv2.resize(image, (shape[1], shape[0]), dst=_wls.scratch(shape)[slot], interpolation=interpolation)
+
+
 def work_shape(depth_shape: tuple[int, int], color_shape: tuple[int, int], work_scale: float) -> tuple[int, int]:
     """The color grid reduced by an integer factor ``k >= 2``: the largest that keeps ``work_scale`` x the depth grid.
 
@@ -220,13 +234,13 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray,
     ``depth`` is hole-filled; ``jump`` is its jump map (:func:`.measure.near_jump`);
     ``neighbourhood``, when given, is the (min, max) of ``depth``'s 3x3
     neighbourhoods already measured (:attr:`.measure.InputMeasures.neighbourhood`).
-    The enlarged jump map goes to a scratch array of the solver's
-    (:func:`~depthrefine.methods._wls.scratch`), so a caller must not hold
-    one across this call.
+    The enlarged jump map goes to the solver's scratch slot 0
+    (:func:`resize_to_scratch`), so a caller must not hold that slot across
+    this call.
     """
     import cv2
 
-    from .. import _resample, _wls
+    from .. import _resample
 
     if neighbourhood is None:
         kernel = np.ones((3, 3), np.uint8)
@@ -235,8 +249,8 @@ def clamped_bicubic(depth: np.ndarray, shape: tuple[int, int], jump: np.ndarray,
     # up <- up + jump * (clip(up, low, high) - up), in place, the bounds on the input's grid, the enlarged jump map
     # in a scratch array of the solver's (free between solves): no image-sized array beside the result
     (h, w), (H, W) = depth.shape, shape
-    jump_full = cv2.resize(jump, (W, H), dst=_wls.scratch(shape, 1)[0], interpolation=cv2.INTER_LINEAR)
-    _resample.clip_toward(up, jump_full, *neighbourhood, nearest_index(h, H), nearest_index(w, W))
+    _resample.clip_toward(up, resize_to_scratch(jump, shape, cv2.INTER_LINEAR), *neighbourhood,
+                          nearest_index(h, H), nearest_index(w, W))
     return up
 
 
@@ -398,8 +412,7 @@ def back_project(m: InputMeasures, solver: Solver, p: GbpParams, bounds: Bounds,
         residual = m.filled - reduce(x, (h, w), m.footprint)
         residual[~m.valid] = 0.0
         # its enlargement in a scratch array of the solver's (free between solves): no more memory
-        x += cv2.resize(residual, grid.shape[::-1], dst=_wls.scratch(grid.shape, 1)[0],
-                        interpolation=cv2.INTER_LANCZOS4)
+        x += resize_to_scratch(residual, grid.shape, cv2.INTER_LANCZOS4)
         if k < p.iterations - 1:
             clip_to_bounds(x, residual_bounds)
         if p.gradient_levels > 0:
@@ -442,14 +455,13 @@ def flat_blend(x: np.ndarray, m: InputMeasures, solver: Solver, p: GbpParams) ->
     del local_range
     grid = _coarse(solver, m) or solver
     # the solve's start in a scratch array of the solver's (free between solves): smooth() copies it
-    start = cv2.resize(m.filled, grid.shape[::-1], dst=_wls.scratch(grid.shape, 1)[0], interpolation=cv2.INTER_LINEAR)
+    start = resize_to_scratch(m.filled, grid.shape, cv2.INTER_LINEAR)
     flat = _wls.smooth(start, grid.flat_x, grid.flat_y, p.flat_lambda_lr * grid.scale)
     del start
     # the two image-sized temporaries in the solver's scratch arrays (free between solves): no more memory
-    flat_full, edge_full = _wls.scratch(solver.shape)
     if grid is not solver:
-        flat = cv2.resize(flat, solver.shape[::-1], dst=flat_full, interpolation=cv2.INTER_LINEAR)
-    edge = cv2.resize(edge, solver.shape[::-1], dst=edge_full, interpolation=cv2.INTER_LINEAR)
+        flat = resize_to_scratch(flat, solver.shape, cv2.INTER_LINEAR, slot=0)
+    edge = resize_to_scratch(edge, solver.shape, cv2.INTER_LINEAR, slot=1)
     # x <- edge * x + (1 - edge) * flat, in place
     x -= flat
     x *= edge

@@ -18,7 +18,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .measure import InputMeasures, block_mean_valid, measure_input, noise_levels, noise_share
-from .solve import back_project, clamped_bicubic, flat_blend, local_bounds, make_solver, reduce, resize
+from .solve import (back_project, clamped_bicubic, flat_blend, local_bounds, make_solver, reduce, resize,
+                    resize_to_scratch)
 
 if TYPE_CHECKING:
     from .params import GbpParams
@@ -133,8 +134,6 @@ def blend_fallback(result: np.ndarray, trust: np.ndarray, m: InputMeasures) -> n
     """
     import cv2
 
-    from .. import _wls
-
     h, w = m.depth.shape
     reduced = reduce(result, (h, w), m.footprint)
     share = noise_share(max(0.0, noise_levels(m) - NOISE_FLOOR))
@@ -142,7 +141,7 @@ def blend_fallback(result: np.ndarray, trust: np.ndarray, m: InputMeasures) -> n
     base = clamped_bicubic(reduced, result.shape, m.jump)
     # the enlarged trust in a scratch array of the solver's, once the fallback has made its own use of it
     trust = np.clip((trust - TRUST_FLOOR) / (1.0 - TRUST_FLOOR), 0.0, 1.0).astype(np.float32, copy=False)
-    trust = cv2.resize(trust, result.shape[::-1], dst=_wls.scratch(result.shape, 1)[0], interpolation=cv2.INTER_LINEAR)
+    trust = resize_to_scratch(trust, result.shape, cv2.INTER_LINEAR)
     # result <- base + trust * (result - base), in place
     result -= base
     result *= trust
