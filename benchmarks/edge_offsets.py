@@ -8,8 +8,8 @@ protocol, the largest offset of the cases it leaves alone and how many it
 thins. A registered input must stay below the threshold (its output is then
 bit-identical to gbp without step 1b); the ``sensor`` protocol's direct-ToF
 cases should reach it. The column ``check`` gives the verdict of step 1b's cheap
-check (``fattening.clearly_unfattened`` on the guide reduced to ``CHECK_SCALE``
-pixels per depth pixel): ``skip`` where it spares the full measure; a case it
+check (``fattening.check_skips``: ``clearly_unfattened`` on the guide reduced
+by ``work_shape``): ``skip`` where it spares the full measure; a case it
 skips that the full measure would thin is counted as a miss (there should be
 none: the output would differ from the full measure's). Beside it, the shift of the whole map from the color
 edges (``fattening.edge_shift``, depth pixels, (dy, dx)) and whether it reaches
@@ -32,11 +32,8 @@ from pathlib import Path
 def main(argv: list[str] | None = None) -> int:
     from depthrefine._validate import as_depth, check_rgb, guide_uint8
     from depthrefine.bench.protocols import load_cases
-    import cv2
-
-    from depthrefine.methods.gbp.fattening import (CHECK_SCALE, FATTEN_MIN, SHIFT_MIN, clearly_unfattened,
-                                                   edge_offset, edge_shift, sector_medians)
-    from depthrefine.methods.gbp.solve import resize, work_shape
+    from depthrefine.methods.gbp.fattening import (FATTEN_MIN, SHIFT_MIN, check_skips, edge_offset, edge_shift,
+                                                   sector_medians)
     from depthrefine.methods.gbp.measure import measure_input
 
     default = Path(__file__).resolve().parents[1].parent / "shared" / "data"
@@ -55,8 +52,7 @@ def main(argv: list[str] | None = None) -> int:
             offset = edge_offset(m, guide, medians)
             dy, dx = edge_shift(m, guide, medians)
             applied = abs(offset) >= FATTEN_MIN
-            reduced = work_shape(m.depth.shape, guide.shape[:2], CHECK_SCALE)
-            skip = reduced != guide.shape[:2] and clearly_unfattened(m, resize(guide, reduced, cv2.INTER_AREA))
+            skip = check_skips(m, guide)
             skipped += skip
             missed += skip and applied
             if applied:

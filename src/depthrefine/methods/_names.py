@@ -14,8 +14,8 @@ from typing import TYPE_CHECKING, Iterator
 if TYPE_CHECKING:
     from .options import MethodOption
 
-__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "NATIVE_METHODS", "RegisteredMethodNames",
-           "registered_method_options"]
+__all__ = ["DEFAULT_METHOD", "BUILTIN_METHODS", "PROBED_METHODS", "COMPILED_METHODS", "NATIVE_METHODS",
+           "RegisteredMethodNames", "registered_method_options"]
 
 #: The method of :func:`depthrefine.refine` and of the commands when none is named: guided
 #: back-projection, the most accurate method on every benchmark protocol (docs/bench.md).

@@ -54,9 +54,8 @@ if TYPE_CHECKING:
 
 __all__ = ["refine_with_confidence", "method_with_confidence", "confidence_of", "confidence_on_grid",
            "apply_min_confidence", "generic_confidence", "steepness_confidence", "error_terms", "expected_error",
-           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "REACH_PIXELS", "HOLE_WEIGHT", "HOLE_LEVELS",
-           "HOLE_RANGE_NOISE", "DISAGREE_WEIGHT", "NOISE_SHARE",
-           "ERROR_SCALE", "CONFIDENCE_LEVELS"]
+           "confidence_from_error", "depth_level", "NEAR_LENGTH", "REACH_LENGTH", "REACH_PIXELS", "HOLE_WEIGHT",
+           "HOLE_LEVELS", "HOLE_RANGE_NOISE", "DISAGREE_WEIGHT", "NOISE_SHARE", "ERROR_SCALE", "CONFIDENCE_LEVELS"]
 
 #: Weight of the output's steepness within one color pixel (3x3), in color pixels.
 NEAR_LENGTH = 1.78

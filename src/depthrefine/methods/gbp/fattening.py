@@ -44,7 +44,7 @@ from .measure import InputMeasures, near_jump
 from .solve import resize, work_shape
 
 __all__ = ["edge_offset", "edge_shift", "offset_axes", "sector_medians", "clearly_unfattened", "edge_offsets",
-           "thin_fattened", "thin_if_fattened"]
+           "thin_fattened", "thin_if_fattened", "check_skips"]
 
 #: An offset of the color edges below this many depth pixels is left alone (registered benchmark inputs: <= 0.40).
 FATTEN_MIN = 0.5
@@ -261,15 +261,24 @@ def thin_if_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False
     (``shift``) always gets the full measure, which also reads its shift; so
     does a guide too small to reduce.
     """
+    if not shift and check_skips(m, guide, guide_reduced):
+        return m
+    return thin_fattened(m, guide, shift=shift)
+
+
+def check_skips(m: InputMeasures, guide: np.ndarray, guide_reduced: np.ndarray | None = None) -> bool:
+    """Whether step 1b's cheap check spares the full measure (:func:`thin_if_fattened`, unless ``shift``).
+
+    :func:`clearly_unfattened` on ``guide_reduced``, by default ``guide``
+    reduced by area to :func:`~.solve.work_shape` with :data:`CHECK_SCALE`;
+    never where the guide is not reduced (the check would be the full measure).
+    """
     import cv2
 
-    if not shift:
-        if guide_reduced is None:
-            reduced = work_shape(m.depth.shape, guide.shape[:2], CHECK_SCALE)
-            guide_reduced = guide if reduced == guide.shape[:2] else resize(guide, reduced, cv2.INTER_AREA)
-        if guide_reduced is not guide and clearly_unfattened(m, guide_reduced):
-            return m
-    return thin_fattened(m, guide, shift=shift)
+    if guide_reduced is None:
+        reduced = work_shape(m.depth.shape, guide.shape[:2], CHECK_SCALE)
+        guide_reduced = guide if reduced == guide.shape[:2] else resize(guide, reduced, cv2.INTER_AREA)
+    return guide_reduced is not guide and clearly_unfattened(m, guide_reduced)
 
 
 def thin_fattened(m: InputMeasures, guide: np.ndarray, *, shift: bool = False) -> InputMeasures:
