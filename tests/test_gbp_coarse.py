@@ -77,6 +77,18 @@ def test_the_reduced_grid_is_taken_for_footprint_means_at_x4_and_up_only():
     assert solver.reduced is None or solver.reduced.scale == pytest.approx(solver.scale / 2)
 
 
+
+def test_the_filtered_guide_is_kept_only_where_it_is_read_later():
+    """x4 and up: the reduced grid and the guided enlargement read it; x2: it goes once the weights are made
+    (peak memory), unless asked for (step 6, ``snap_edges``)."""
+    guide = np.zeros((64, 64, 3), np.uint8)
+    p = GbpParams()
+    for s, kept in ((2, False), (4, True), (8, True)):
+        m = measure.measure_input(np.full((64 // s, 64 // s), 5.0, np.float32), guide)
+        assert (solve.make_solver(guide, m, p, solve.GUIDE_NOISE).guide is not None) == kept
+        assert solve.make_solver(guide, m, p, solve.GUIDE_NOISE, coarse=False).guide is None
+        assert solve.make_solver(guide, m, p, solve.GUIDE_NOISE, coarse=False, keep_guide=True).guide is not None
+
 def test_point_samples_stay_on_the_full_grid():
     """Flat-colored point-sampled scenes: the reduced rounds raised the RMSE 9 -> 156 there, so they are skipped."""
     scene = make_scene((64, 96), 4, n_objects=3, seed=3, color_noise_std=6.0)

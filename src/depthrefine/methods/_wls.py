@@ -179,7 +179,7 @@ def _check_in_place(x: np.ndarray, done: str) -> None:
 
 
 def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, iterations: int = 3,
-           attenuation: float = 0.25) -> np.ndarray:
+           attenuation: float = 0.25, out: np.ndarray | None = None) -> np.ndarray:
     """Weighted least-squares smoothing of ``src`` with edge weights ``wx``, ``wy`` (see the module docstring).
 
     Parameters
@@ -196,12 +196,15 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     iterations, attenuation : int, float
         As OpenCV's ``num_iter`` (3, ``>= 1``) and ``lambda_attenuation``
         (0.25, ``>= 0``).
+    out : (H, W) float32 ndarray, optional
+        Where to solve (writeable, C-contiguous; ``src`` itself to solve in
+        place): no new image-sized array.
 
     Returns
     -------
     (H, W) float32 ndarray
-        Bit-identical for the same input, whatever the number of cores and
-        of threads calling at once.
+        ``out`` when given. Bit-identical for the same input, whatever the
+        number of cores and of threads calling at once.
 
     Raises
     ------
@@ -220,7 +223,15 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     >>> bool(out[:, :3].max() < 1 and out[:, 3:].min() > 10)
     True
     """
-    u = np.array(src, dtype=np.float32, order="C")
+    if out is None:
+        u = np.array(src, dtype=np.float32, order="C")
+    else:
+        _check_in_place(out, "solved")
+        if np.shape(src) != out.shape:
+            raise ValueError(f"out must have src's shape {np.shape(src)}; got {out.shape}.")
+        u = out
+        if src is not out:
+            np.copyto(u, src, casting="same_kind")
     if u.ndim != 2:
         raise ValueError(f"src must be a 2-D array; got shape {u.shape}.")
     wx, wy = _weights(u.shape, wx, wy)

@@ -89,8 +89,9 @@ class InputMeasures:
         The guide's noise standard deviation, 8-bit levels.
 
     Two more measures are taken on first use and kept (each is measured
-    once however many steps read it): :attr:`neighbourhood` and
-    :attr:`large_jumps`.
+    once however many steps read it): :attr:`curvature_blind_noise` and
+    :attr:`large_jumps`; :meth:`neighbourhood` is made where it is read
+    (two arrays of the input's size, not held through the solves).
     """
 
     depth: np.ndarray
@@ -105,12 +106,14 @@ class InputMeasures:
     jump: np.ndarray
     guide_noise: float
 
-    @functools.cached_property
     def neighbourhood(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest and the largest ``filled`` value of each input pixel's 3x3 neighbourhood, (h, w) float32 each.
 
         The start's clip near the jumps (:func:`~.solve.clamped_bicubic`, step 2)
-        and the flat-area test (:func:`~.solve.flat_blend`, step 4) read it.
+        and the flat-area test (:func:`~.solve.flat_blend`, step 4) read it,
+        each making it (an erosion and a dilation of the input, well under a
+        millisecond at 640x360) rather than holding it through the solves
+        between them.
         """
         import cv2
 

@@ -106,16 +106,22 @@ def measured_trust(m: InputMeasures, guide: np.ndarray, p: GbpParams) -> np.ndar
     solver = make_solver(guide_lr, check, p, TRUST_GUIDE_NOISE)
     g = flat_blend(back_project(check, solver, p, local_bounds(small, (hc, wc))), check, solver, p)
     b = resize(resize(g, small.shape, cv2.INTER_AREA), (hc, wc), cv2.INTER_CUBIC)
-    valid = m.valid[:hc, :wc]
-    y = np.where(valid, depth[:hc, :wc], b)
-    detail = np.where(valid, g - b, 0).astype(np.float32)
-    explained = np.where(valid, y - b, 0).astype(np.float32)
+    # g - b and y - b, 0 at invalid pixels, each in place of an array done with (at x2 each of these arrays is a
+    # quarter of the output: the call's peak memory)
+    invalid = ~m.valid[:hc, :wc]
+    detail = np.subtract(g, b, out=g)
+    explained = np.subtract(depth[:hc, :wc], b, out=b)
+    detail[invalid] = explained[invalid] = 0.0
+    del g, b, invalid
     size = (2 * TRUST_RADIUS + 1,) * 2
-    num = cv2.boxFilter(explained * detail, -1, size, borderType=cv2.BORDER_REFLECT)
-    den = cv2.boxFilter(detail * detail, -1, size, borderType=cv2.BORDER_REFLECT)
+    num = cv2.boxFilter(np.multiply(explained, detail, out=explained), -1, size, borderType=cv2.BORDER_REFLECT)
+    den = cv2.boxFilter(np.multiply(detail, detail, out=detail), -1, size, borderType=cv2.BORDER_REFLECT)
+    del explained, detail
     span = float(np.float32(m.high) - np.float32(m.low))    # the valid range, as float32 values subtract
     prior = (TRUST_PRIOR * span / 255.0) ** 2 + 1e-30
-    trust[:hc, :wc] = np.clip((num + prior) / (den + prior), 0.0, 1.0)
+    num += prior
+    den += prior
+    np.clip(np.divide(num, den, out=num), 0.0, 1.0, out=trust[:hc, :wc])
     trust[hc:, :] = trust[hc - 1:hc, :]
     trust[:, wc:] = trust[:, wc - 1:wc]
     trust = cv2.boxFilter(trust, -1, size, borderType=cv2.BORDER_REFLECT)

@@ -84,7 +84,7 @@ def _refine(depth: np.ndarray, guide: np.ndarray, params: GbpParams | None,
         raise TypeError(f"params must be GbpParams or None; got {type(p).__name__}.")
     measures = thin_if_fattened(measure_input(depth, guide, sampling=p.sampling), guide,   # 1, 1b
                                 shift=bool(p.reprojected))
-    solver = make_solver(guide, measures, p, solve.GUIDE_NOISE)
+    solver = make_solver(guide, measures, p, solve.GUIDE_NOISE, keep_guide=p.snap_edges)
     bounds = local_bounds(measures.depth, solver.shape)
     result = back_project(measures, solver, p, bounds, progress)               # 2, 3
     result = flat_blend(result, measures, solver, p)                           # 4
