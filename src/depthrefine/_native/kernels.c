@@ -443,17 +443,13 @@ static inline double bilinear(const float *image, index_t rows, index_t cols, do
 }
 
 #if defined(__AVX2__)
-/* bilinear() at the four points (j + t nx, i + t ny) of the four t, into out[0..3]: each lane does
- * bilinear()'s operations in its order and types (the clamps as its selections, floor, the float32
- * differences), so the values are its bits (t = +-1 gives j +- nx exactly). The image must have fewer than
- * 2**31 pixels. */
-static inline void bilinear4(const float *image, index_t rows, index_t cols, index_t j, index_t i, float nx,
-                             float ny, __m256d t, double *out)
+/* bilinear() at the four points (x[k], y[k]), into out[0..3]: each lane does bilinear()'s operations in its order
+ * and types (the clamps as its selections, floor, the float32 differences), so the values are its bits. The image
+ * must have fewer than 2**31 pixels. */
+static inline void bilinear4_at(const float *image, index_t rows, index_t cols, __m256d x, __m256d y, double *out)
 {
     const __m256d zero = _mm256_setzero_pd();
     const __m256d last_x = _mm256_set1_pd((double)cols - 1.0), last_y = _mm256_set1_pd((double)rows - 1.0);
-    __m256d x = _mm256_add_pd(_mm256_set1_pd((double)j), _mm256_mul_pd(t, _mm256_set1_pd((double)nx)));
-    __m256d y = _mm256_add_pd(_mm256_set1_pd((double)i), _mm256_mul_pd(t, _mm256_set1_pd((double)ny)));
     /* x = min_d(max_d(x, 0), cols - 1): max_d(a, b) is b only when b > a, min_d(a, b) only when b < a */
     x = _mm256_blendv_pd(x, zero, _mm256_cmp_pd(zero, x, _CMP_GT_OQ));
     x = _mm256_blendv_pd(x, last_x, _mm256_cmp_pd(last_x, x, _CMP_LT_OQ));
@@ -472,7 +468,53 @@ static inline void bilinear4(const float *image, index_t rows, index_t cols, ind
     __m256d bottom = _mm256_add_pd(_mm256_cvtps_pd(c), _mm256_mul_pd(fx, _mm256_cvtps_pd(_mm_sub_ps(d, c))));
     _mm256_storeu_pd(out, _mm256_add_pd(top, _mm256_mul_pd(fy, _mm256_sub_pd(bottom, top))));
 }
+
+/* bilinear() at the four points (j + t nx, i + t ny) of the four t (t = +-1 gives j +- nx exactly). */
+static inline void bilinear4(const float *image, index_t rows, index_t cols, index_t j, index_t i, float nx,
+                             float ny, __m256d t, double *out)
+{
+    __m256d x = _mm256_add_pd(_mm256_set1_pd((double)j), _mm256_mul_pd(t, _mm256_set1_pd((double)nx)));
+    __m256d y = _mm256_add_pd(_mm256_set1_pd((double)i), _mm256_mul_pd(t, _mm256_set1_pd((double)ny)));
+    bilinear4_at(image, rows, cols, x, y, out);
+}
 #endif
+
+/* The profile of edges along (nx, ny) at pixel (i, j) of the ridge; its peak's offset and the gradient's angle go to
+ * offsets[n], angles[n] where it is clear. Returns the new n. */
+static inline int64_t profile_peak(const float *edges, index_t rows, index_t cols, index_t i, index_t j, float nx,
+                                   float ny, int64_t reach, double peak_ratio, double *profile, double *offsets,
+                                   double *angles, int64_t n, int small_image)
+{
+    const int64_t steps = 2 * reach + 1;
+    int64_t k = 0;
+#if defined(__AVX2__)
+    if (small_image)                             /* four samples at a time, the same operations */
+        for (; k + 4 <= steps; k += 4) {
+            double t = (double)(k - reach);
+            bilinear4(edges, rows, cols, j, i, nx, ny, _mm256_set_pd(t + 3.0, t + 2.0, t + 1.0, t), profile + k);
+        }
+#else
+    (void)small_image;
+#endif
+    for (; k < steps; k++) {
+        int64_t t = k - reach;
+        profile[k] = bilinear(edges, rows, cols, (double)j + (double)t * (double)nx, (double)i + (double)t * (double)ny);
+    }
+    double total = 0.0;
+    int64_t peak = 0;
+    for (k = 0; k < steps; k++) {
+        total += profile[k];
+        if (profile[k] > profile[peak]) peak = k;
+    }
+    if (peak == 0 || peak == steps - 1 || profile[peak] <= peak_ratio / (double)steps * (total + 1e-6))
+        return n;                                /* no clear color edge within reach */
+    double before = profile[peak - 1], top = profile[peak], after = profile[peak + 1];
+    double curvature = before - 2.0 * top + after;
+    double shift = curvature < 0.0 ? 0.5 * (before - after) / curvature : 0.0;
+    offsets[n] = (double)(peak - reach) + shift;
+    angles[n] = (double)atan2f(ny, nx);
+    return n + 1;
+}
 
 /* Rows i0:i1 of the search (see jump_offsets): row i's results go to offsets[row_start[i]:] in column order,
  * their count to found[i]. Returns -1 when out of memory. */
@@ -482,56 +524,61 @@ EXPORT int dr_search(const uint8_t *band, const float *magnitude, const float *g
                      index_t i1)
 {
     const int64_t steps = 2 * reach + 1;
-#if defined(__AVX2__)
     const int small_image = rows * cols < ((index_t)1 << 31);   /* bilinear4's int32 offsets */
-#endif
     double *profile = (double *)malloc(sizeof(double) * (size_t)steps);
     if (!profile) return -1;
     for (index_t i = i0; i < i1; i++) {
         int64_t n = row_start[i];
+#if defined(__AVX2__)
+        /* the ridge test of two band pixels at once (their two neighbours along the gradient: four lanes); a
+         * pixel waits for the next one, and the row's last one alone is tested with its neighbours twice */
+        index_t waiting = -1;
+        float wait_x = 0.0f, wait_y = 0.0f;
+#endif
         for (index_t j = 0; j < cols; j++) {
             float here = magnitude[i * cols + j];
             if (!band[i * cols + j] || here <= 0.0f) continue;
             float nx = gx[i * cols + j] / here, ny = gy[i * cols + j] / here;
 #if defined(__AVX2__)
-            if (small_image) {                           /* both neighbours along the gradient at once */
+            if (small_image) {
+                if (waiting < 0) {
+                    waiting = j, wait_x = nx, wait_y = ny;
+                    continue;
+                }
                 double beside[4];
-                bilinear4(magnitude, rows, cols, j, i, nx, ny, _mm256_set_pd(-1.0, 1.0, -1.0, 1.0), beside);
-                if ((double)here < beside[0] || (double)here < beside[1]) continue;
-            } else
+                __m256d x = _mm256_set_pd((double)j - (double)nx, (double)j + (double)nx,
+                                          (double)waiting - (double)wait_x, (double)waiting + (double)wait_x);
+                __m256d y = _mm256_set_pd((double)i - (double)ny, (double)i + (double)ny,
+                                          (double)i - (double)wait_y, (double)i + (double)wait_y);
+                bilinear4_at(magnitude, rows, cols, x, y, beside);
+                double there = (double)magnitude[i * cols + waiting];
+                if (!(there < beside[0] || there < beside[1]))  /* on the ridge of the depth gradient */
+                    n = profile_peak(edges, rows, cols, i, waiting, wait_x, wait_y, reach, peak_ratio, profile,
+                                     offsets, angles, n, small_image);
+                waiting = -1;
+                if (!((double)here < beside[2] || (double)here < beside[3]))
+                    n = profile_peak(edges, rows, cols, i, j, nx, ny, reach, peak_ratio, profile, offsets, angles,
+                                     n, small_image);
+                continue;
+            }
 #endif
             if ((double)here < bilinear(magnitude, rows, cols, (double)j + (double)nx, (double)i + (double)ny)
                 || (double)here < bilinear(magnitude, rows, cols, (double)j - (double)nx, (double)i - (double)ny))
                 continue;                                /* not on the ridge of the depth gradient */
-            int64_t k = 0;
-#if defined(__AVX2__)
-            if (small_image)                             /* four samples at a time, the same operations */
-                for (; k + 4 <= steps; k += 4) {
-                    double t = (double)(k - reach);
-                    bilinear4(edges, rows, cols, j, i, nx, ny, _mm256_set_pd(t + 3.0, t + 2.0, t + 1.0, t),
-                              profile + k);
-                }
-#endif
-            for (; k < steps; k++) {
-                int64_t t = k - reach;
-                profile[k] = bilinear(edges, rows, cols, (double)j + (double)t * (double)nx,
-                                      (double)i + (double)t * (double)ny);
-            }
-            double total = 0.0;
-            int64_t peak = 0;
-            for (k = 0; k < steps; k++) {
-                total += profile[k];
-                if (profile[k] > profile[peak]) peak = k;
-            }
-            if (peak == 0 || peak == steps - 1 || profile[peak] <= peak_ratio / (double)steps * (total + 1e-6))
-                continue;                                /* no clear color edge within reach */
-            double before = profile[peak - 1], top = profile[peak], after = profile[peak + 1];
-            double curvature = before - 2.0 * top + after;
-            double shift = curvature < 0.0 ? 0.5 * (before - after) / curvature : 0.0;
-            offsets[n] = (double)(peak - reach) + shift;
-            angles[n] = (double)atan2f(ny, nx);
-            n++;
+            n = profile_peak(edges, rows, cols, i, j, nx, ny, reach, peak_ratio, profile, offsets, angles, n,
+                             small_image);
         }
+#if defined(__AVX2__)
+        if (waiting >= 0) {
+            double beside[4];
+            bilinear4(magnitude, rows, cols, waiting, i, wait_x, wait_y, _mm256_set_pd(-1.0, 1.0, -1.0, 1.0),
+                      beside);
+            double there = (double)magnitude[i * cols + waiting];
+            if (!(there < beside[0] || there < beside[1]))
+                n = profile_peak(edges, rows, cols, i, waiting, wait_x, wait_y, reach, peak_ratio, profile, offsets,
+                                 angles, n, small_image);
+        }
+#endif
         found[i] = n - row_start[i];
     }
     free(profile);
