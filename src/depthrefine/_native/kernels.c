@@ -29,7 +29,7 @@
 #endif
 
 /* The functions' signatures, checked by the loader (depthrefine._native.ABI): raise it with any change of them. */
-#define DEPTHREFINE_KERNELS_ABI 3
+#define DEPTHREFINE_KERNELS_ABI 4
 
 #if defined(_MSC_VER) && !defined(__clang__)
 #define restrict __restrict     /* MSVC knows C99's restrict only with /std:c11 */
@@ -590,3 +590,402 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_kernels",
                                     "gbp's kernels in C, called through ctypes (depthrefine._native).", -1, NULL};
 
 PyMODINIT_FUNC PyInit__kernels(void) { return PyModule_Create(&module); }
+
+/* =====================================================================================================
+ * The thesis method's kernels (methods/thesis/_jit.py), each the numba kernel of the same name operation for
+ * operation, in its types and order (tests/test_native.py compares them bit for bit). This section stands apart
+ * from gbp's above so that changes to the two do not meet.
+ * ===================================================================================================== */
+
+/* quantize_lab on a float32 (rows, cols, 3) patch. ranges gets (a_min, a_max, b_min, b_max, f_min, f_max),
+ * n_cls the three class counts, sum_l the three classes' L* sums: float64, each in row-major pixel order, adding
+ * 0.0 for a pixel of another class as the numba kernel does. Each row is binned in a loop that vectorises, then
+ * its sums run in pixel order. */
+EXPORT void dr_quantize_lab(const float *restrict lab, index_t rows, index_t cols, float inv_step, float half,
+                            int unify, float black, float white, int32_t *restrict qa, int32_t *restrict qb,
+                            int32_t *restrict first, int64_t *restrict ranges, int64_t *restrict n_cls,
+                            double *restrict sum_l)
+{
+    int32_t a_lo = INT32_MAX, b_lo = INT32_MAX, f_lo = INT32_MAX;
+    int32_t a_hi = INT32_MIN, b_hi = INT32_MIN, f_hi = INT32_MIN;
+    int64_t c0 = 0, c2 = 0;
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    for (index_t i = 0; i < rows; i++) {
+        const float *restrict row = lab + i * cols * 3;
+        int32_t *restrict ra = qa + i * cols, *restrict rb = qb + i * cols, *restrict rf = first + i * cols;
+        for (index_t j = 0; j < cols; j++) {
+            int32_t a = (int32_t)floorf(row[3 * j + 1] * inv_step + half);
+            int32_t b = (int32_t)floorf(row[3 * j + 2] * inv_step + half);
+            ra[j] = a; rb[j] = b;
+            a_lo = a < a_lo ? a : a_lo; a_hi = a > a_hi ? a : a_hi;
+            b_lo = b < b_lo ? b : b_lo; b_hi = b > b_hi ? b : b_hi;
+        }
+        if (unify) {
+            for (index_t j = 0; j < cols; j++) {
+                float light = row[3 * j];
+                int32_t f = 1 - (int32_t)(light <= black) + (int32_t)(light >= white);
+                rf[j] = f;
+                f_lo = f < f_lo ? f : f_lo; f_hi = f > f_hi ? f : f_hi;
+                c0 += f == 0;
+                c2 += f == 2;
+            }
+            /* the sums in pixel order; "wide if f == k else 0.0" as a selection of bits (no branch) */
+            for (index_t j = 0; j < cols; j++) {
+                uint64_t wide = double_bits((double)row[3 * j]);
+                int32_t f = rf[j];
+                s0 += bits_double(wide & (0 - (uint64_t)(f == 0)));
+                s1 += bits_double(wide & (0 - (uint64_t)(f == 1)));
+                s2 += bits_double(wide & (0 - (uint64_t)(f == 2)));
+            }
+        } else {
+            for (index_t j = 0; j < cols; j++) {
+                int32_t f = (int32_t)floorf(row[3 * j] * inv_step + half);
+                rf[j] = f;
+                f_lo = f < f_lo ? f : f_lo; f_hi = f > f_hi ? f : f_hi;
+            }
+        }
+    }
+    ranges[0] = a_lo; ranges[1] = a_hi; ranges[2] = b_lo; ranges[3] = b_hi; ranges[4] = f_lo; ranges[5] = f_hi;
+    n_cls[0] = c0; n_cls[1] = unify ? (int64_t)(rows * cols) - c0 - c2 : 0; n_cls[2] = c2;
+    sum_l[0] = s0; sum_l[1] = s1; sum_l[2] = s2;
+}
+
+/* feature_codes: code = ((first - f0) * na + qa - a0) * nb + qb - b0 in int64, stored as int32; its histogram
+ * into counts when n_counts > 0 (integer counts: the order of the additions does not matter). */
+EXPORT void dr_feature_codes(const int32_t *restrict qa, const int32_t *restrict qb, const int32_t *restrict first,
+                             index_t n, int64_t a0, int64_t na, int64_t b0, int64_t nb, int64_t f0,
+                             int32_t *restrict code, int64_t *restrict counts, index_t n_counts)
+{
+    for (index_t p = 0; p < n; p++)
+        code[p] = (int32_t)((((int64_t)first[p] - f0) * na + ((int64_t)qa[p] - a0)) * nb + ((int64_t)qb[p] - b0));
+    if (n_counts > 0 && n > 0 && n_counts <= (1 << 14) && n < ((index_t)1 << 31)) {
+        /* four partial histograms, pixel p into partial p % 4: neighbouring pixels mostly share their bin, and one
+         * histogram would wait on the previous pixel's store (integer counts: the sum is the same) */
+        uint32_t *part = calloc(4 * (size_t)n_counts, sizeof(uint32_t));
+        if (part) {
+            index_t p = 0;
+            for (; p + 4 <= n; p += 4) {
+                part[code[p]]++;
+                part[n_counts + code[p + 1]]++;
+                part[2 * n_counts + code[p + 2]]++;
+                part[3 * n_counts + code[p + 3]]++;
+            }
+            for (; p < n; p++) part[code[p]]++;
+            for (index_t c = 0; c < n_counts; c++)
+                counts[c] += (int64_t)part[c] + part[n_counts + c] + part[2 * n_counts + c] + part[3 * n_counts + c];
+            free(part);
+            return;
+        }
+    }
+    if (n_counts > 0)
+        for (index_t p = 0; p < n; p++) counts[code[p]] += 1;
+}
+
+/* lookup: out[p] = table[index[p]]. */
+EXPORT void dr_lookup(const int16_t *restrict table, const int32_t *restrict index, index_t n, int16_t *restrict out)
+{
+    for (index_t p = 0; p < n; p++)
+        out[p] = table[index[p]];
+}
+
+/* _assign: the nearest of the float32 means (the first on ties), distances summed in float32 in dimension order. */
+static void thesis_assign(const float *restrict x, index_t n, index_t dims, const float *restrict means, index_t k,
+                          int32_t *restrict labels)
+{
+    if (dims == 3) {    /* the thesis's (L*, a*, b*): the same operations, 64 points at a time (they vectorise) */
+        for (index_t i0 = 0; i0 < n; i0 += 64) {
+            index_t m = n - i0 < 64 ? n - i0 : 64;
+            const float *restrict xs = x + 3 * i0;
+            int32_t best[64];
+            float best_d[64];
+            for (index_t j = 0; j < k; j++) {
+                const float m0 = means[3 * j], m1 = means[3 * j + 1], m2 = means[3 * j + 2];
+                for (index_t q = 0; q < m; q++) {
+                    float d0 = xs[3 * q] - m0, d1 = xs[3 * q + 1] - m1, d2 = xs[3 * q + 2] - m2;
+                    float d = d0 * d0;
+                    d = d + d1 * d1;
+                    d = d + d2 * d2;
+                    int take = j == 0 || d < best_d[q];
+                    best[q] = take ? (int32_t)j : best[q];
+                    best_d[q] = take ? d : best_d[q];
+                }
+            }
+            memcpy(labels + i0, best, (size_t)m * sizeof(int32_t));
+        }
+        return;
+    }
+    for (index_t i = 0; i < n; i++) {
+        int32_t best = 0;
+        float best_d = 0.0f;
+        for (index_t j = 0; j < k; j++) {
+            float d = 0.0f;
+            for (index_t e = 0; e < dims; e++) {
+                float diff = x[i * dims + e] - means[j * dims + e];
+                float sq = diff * diff;
+                d = e == 0 ? sq : d + sq;
+            }
+            if (j == 0 || d < best_d) { best = (int32_t)j; best_d = d; }
+        }
+        labels[i] = best;
+    }
+}
+
+/* lloyd: iterations rounds of k-means from means_in (k, dims); labels renumbered over the clusters used, their
+ * means into means_out (capacity k rows). Returns the clusters kept, -1 when scratch memory is short, -2 when a
+ * round keeps no cluster (no positive weight: the numba kernel's result is then left to it). */
+EXPORT int64_t dr_lloyd(const float *restrict x, const double *restrict w, index_t n, index_t dims,
+                        const double *restrict means_in, index_t k, int64_t iterations, int32_t *restrict labels,
+                        double *restrict means_out)
+{
+    size_t kd = (size_t)(k > 0 ? k : 1) * (size_t)(dims > 0 ? dims : 1);
+    double *means = malloc(kd * sizeof(double)), *sums = malloc(kd * sizeof(double));
+    double *counts = malloc((size_t)(k > 0 ? k : 1) * sizeof(double));
+    float *means32 = malloc(kd * sizeof(float));
+    int64_t *remap = malloc((size_t)(k > 0 ? k : 1) * sizeof(int64_t));
+    int64_t result = -1;
+    if (!means || !sums || !counts || !means32 || !remap) goto done;
+    if (k == 0) { result = -2; goto done; }
+    memcpy(means, means_in, (size_t)k * (size_t)dims * sizeof(double));
+    for (index_t q = 0; q < k * dims; q++) means32[q] = (float)means[q];
+    thesis_assign(x, n, dims, means32, k, labels);
+    for (int64_t round = 0; round < iterations; round++) {
+        for (index_t c = 0; c < k; c++) counts[c] = 0.0;
+        for (index_t q = 0; q < k * dims; q++) sums[q] = 0.0;
+        for (index_t i = 0; i < n; i++) {
+            index_t c = labels[i];
+            counts[c] += w[i];
+            for (index_t e = 0; e < dims; e++)
+                sums[c * dims + e] += w[i] * (double)x[i * dims + e];
+        }
+        index_t m = 0;
+        for (index_t c = 0; c < k; c++) {
+            if (counts[c] > 0) {
+                for (index_t e = 0; e < dims; e++)
+                    means[m * dims + e] = sums[c * dims + e] / counts[c];
+                m++;
+            }
+        }
+        if (m == 0) { result = -2; goto done; }
+        k = m;
+        for (index_t q = 0; q < k * dims; q++) means32[q] = (float)means[q];
+        thesis_assign(x, n, dims, means32, k, labels);
+    }
+    for (index_t c = 0; c < k; c++) remap[c] = 0;
+    for (index_t i = 0; i < n; i++) remap[labels[i]] = 1;
+    index_t used = 0;
+    for (index_t c = 0; c < k; c++) {
+        if (remap[c]) {
+            memcpy(means_out + used * dims, means + c * dims, (size_t)dims * sizeof(double));
+            remap[c] = used++;
+        }
+    }
+    for (index_t i = 0; i < n; i++) labels[i] = (int32_t)remap[labels[i]];
+    result = used;
+done:
+    free(means); free(sums); free(counts); free(means32); free(remap);
+    return result;
+}
+
+/* grow_samples: each cluster's samples grown by one pixel, a new pixel taking the value of its first sampled
+ * neighbour in _jit._NEIGHBOURS' order. masks, grown (k, rows, cols) bool; values (k, rows, cols) float64. */
+EXPORT void dr_grow_samples(const uint8_t *restrict masks, index_t k, index_t rows, index_t cols,
+                            const double *restrict corrected, double *restrict values, uint8_t *restrict grown)
+{
+    static const int NEIGHBOURS[8][2] = {{0, -1}, {-1, 0}, {1, 0}, {0, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+    for (index_t c = 0; c < k; c++) {
+        const uint8_t *mask = masks + c * rows * cols;
+        uint8_t *g = grown + c * rows * cols;
+        double *v = values + c * rows * cols;
+        for (index_t i = 0; i < rows; i++) {
+            for (index_t j = 0; j < cols; j++) {
+                index_t at = i * cols + j;
+                if (mask[at]) { g[at] = 1; v[at] = corrected[at]; continue; }
+                g[at] = 0;
+                v[at] = 0.0;
+                for (int q = 0; q < 8; q++) {
+                    index_t y = i + NEIGHBOURS[q][0], x = j + NEIGHBOURS[q][1];
+                    if (0 <= y && y < rows && 0 <= x && x < cols && mask[y * cols + x]) {
+                        g[at] = 1;
+                        v[at] = corrected[y * cols + x];
+                        break;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* interpolate_patch: bilinear in float32 where a pixel's cell is its cluster's, else the ratio of the bilinear
+ * interpolations of weighted and present (k, n_lr, w_lr) in float64. Returns the count of non-finite results, or
+ * -1 when scratch memory is short. */
+EXPORT int64_t dr_interpolate_patch(const float *restrict filled, index_t n_lr, index_t w_lr,
+                                    const int16_t *restrict cell_label, const int16_t *restrict labels, index_t rows,
+                                    index_t cols, const double *restrict weighted, const double *restrict present,
+                                    const int64_t *restrict i0, const int64_t *restrict i1, const double *restrict fr,
+                                    const int64_t *restrict j0, const int64_t *restrict j1, const double *restrict fc,
+                                    float *restrict out)
+{
+    float *along = malloc(((size_t)n_lr * (size_t)cols + 1) * sizeof(float));
+    int16_t *cell = malloc(((size_t)n_lr * (size_t)cols + 1) * sizeof(int16_t));
+    float *fc32 = malloc(((size_t)cols + 1) * sizeof(float));
+    int64_t bad = 0;
+    if (!along || !cell || !fc32) { bad = -1; goto done; }
+    for (index_t c = 0; c < cols; c++) fc32[c] = (float)fc[c];
+    for (index_t i = 0; i < n_lr; i++) {
+        const float *f_row = filled + i * w_lr;
+        const int16_t *l_row = cell_label + i * w_lr;
+        for (index_t c = 0; c < cols; c++) {
+            float left = f_row[j0[c]];
+            along[i * cols + c] = left + fc32[c] * (f_row[j1[c]] - left);
+            cell[i * cols + c] = l_row[j0[c]];
+        }
+    }
+    index_t plane = n_lr * w_lr;
+    for (index_t r = 0; r < rows; r++) {
+        index_t a0 = i0[r], a1 = i1[r];
+        float f = (float)fr[r];
+        const float *top = along + a0 * cols, *bottom = along + a1 * cols;
+        const int16_t *own = cell + a0 * cols, *label_row = labels + r * cols;
+        float *row = out + r * cols;
+        for (index_t c = 0; c < cols; c++)
+            row[c] = top[c] + f * (bottom[c] - top[c]);
+        for (index_t c = 0; c < cols; c++) {
+            int16_t label = label_row[c];
+            if (own[c] == label) continue;
+            index_t b0 = j0[c], b1 = j1[c];
+            const double *p = weighted + label * plane, *q = present + label * plane;
+            double t = p[a0 * w_lr + b0] + fc[c] * (p[a0 * w_lr + b1] - p[a0 * w_lr + b0]);
+            double u = p[a1 * w_lr + b0] + fc[c] * (p[a1 * w_lr + b1] - p[a1 * w_lr + b0]);
+            double num = t + fr[r] * (u - t);
+            t = q[a0 * w_lr + b0] + fc[c] * (q[a0 * w_lr + b1] - q[a0 * w_lr + b0]);
+            u = q[a1 * w_lr + b0] + fc[c] * (q[a1 * w_lr + b1] - q[a1 * w_lr + b0]);
+            double den = t + fr[r] * (u - t);
+            if (den > 0) {
+                row[c] = (float)(num / den);
+                if (!isfinite(row[c])) bad++;
+            } else {
+                row[c] = NAN;
+                bad++;
+            }
+        }
+    }
+done:
+    free(along); free(cell); free(fc32);
+    return bad;
+}
+
+/* fill_missing: non-finite pixels of result take fallback[near_rows[r], near_cols[c]] (float64 when is_double,
+ * else float32; rows fallback_stride elements apart). */
+EXPORT void dr_fill_missing(float *restrict result, index_t rows, index_t cols, const void *restrict fallback,
+                            int is_double, index_t fallback_stride, const int64_t *restrict near_rows,
+                            const int64_t *restrict near_cols)
+{
+    for (index_t r = 0; r < rows; r++) {
+        float *restrict row = result + r * cols;
+        int any = 0;        /* first whether the row has a non-finite pixel at all, in a loop that vectorises */
+        for (index_t c = 0; c < cols; c++) {
+            uint32_t bits;
+            memcpy(&bits, row + c, 4);
+            any |= (bits & 0x7f800000u) == 0x7f800000u;
+        }
+        if (!any) continue;
+        for (index_t c = 0; c < cols; c++) {
+            if (isfinite(row[c])) continue;
+            index_t from = near_rows[r] * fallback_stride + near_cols[c];
+            row[c] = is_double ? (float)((const double *)fallback)[from] : ((const float *)fallback)[from];
+        }
+    }
+}
+
+/* correct_values on n float64 values into out; counts (n_bins) and dominant (n_bins) are scratch. */
+static void thesis_correct_values(const double *restrict values, index_t n, double origin, double bin_width,
+                                  index_t n_bins, double dominant_fraction, double tolerance, double *restrict out,
+                                  int64_t *restrict counts, double *restrict dominant)
+{
+    for (index_t b = 0; b < n_bins; b++) counts[b] = 0;
+    index_t n_valid = 0;
+    for (index_t i = 0; i < n; i++) {
+        double v = values[i];
+        if (isfinite(v)) {
+            n_valid++;
+            int64_t b = (int64_t)floor((v - origin) / bin_width + 0.5);
+            b = b > 0 ? b : 0;
+            b = b < n_bins - 1 ? b : n_bins - 1;
+            counts[b] += 1;
+        }
+    }
+    if (n_valid == 0) {
+        for (index_t i = 0; i < n; i++) out[i] = NAN;
+        return;
+    }
+    int64_t peak = counts[0];
+    index_t fullest_bin = 0;
+    for (index_t b = 1; b < n_bins; b++)
+        if (counts[b] > peak) { peak = counts[b]; fullest_bin = b; }
+    double fullest = origin + (double)fullest_bin * bin_width;
+    index_t n_dom = 0;
+    for (index_t b = 0; b < n_bins; b++)
+        if (counts[b] == peak || (double)counts[b] > dominant_fraction * (double)peak)
+            dominant[n_dom++] = origin + (double)b * bin_width;
+    for (index_t i = 0; i < n; i++) {
+        double v = values[i];
+        if (!isfinite(v)) { out[i] = fullest; continue; }
+        double best = dominant[0], best_d = fabs(v - best);
+        for (index_t j = 1; j < n_dom; j++) {
+            double d = fabs(v - dominant[j]);
+            if (d < best_d) { best = dominant[j]; best_d = d; }
+        }
+        out[i] = best_d > tolerance ? best : v;
+    }
+}
+
+/* correct_values (n_bins >= 1). Returns -1 when scratch memory is short, else 0. */
+EXPORT int dr_correct_values(const double *restrict values, index_t n, double origin, double bin_width,
+                             index_t n_bins, double dominant_fraction, double tolerance, double *restrict out)
+{
+    int64_t *counts = malloc((size_t)n_bins * sizeof(int64_t));
+    double *dominant = malloc((size_t)n_bins * sizeof(double));
+    int status = -1;
+    if (counts && dominant) {
+        thesis_correct_values(values, n, origin, bin_width, n_bins, dominant_fraction, tolerance, out, counts,
+                              dominant);
+        status = 0;
+    }
+    free(counts); free(dominant);
+    return status;
+}
+
+/* correct_patch: per cluster c < k, the float32 depth samples labelled c (int16 samples; strides in elements)
+ * corrected, or copied without correct, into out (rows, cols) float64. Returns -1 when memory is short, else 0. */
+EXPORT int dr_correct_patch(const float *restrict depth, index_t d_row, index_t d_col,
+                            const int16_t *restrict samples, index_t s_row, index_t s_col, index_t rows,
+                            index_t cols, int64_t k, int correct, double origin, double bin_width, index_t n_bins,
+                            double dominant_fraction, double tolerance, double *restrict out)
+{
+    size_t n_all = (size_t)rows * (size_t)cols + 1;
+    double *values = malloc(n_all * sizeof(double)), *fixed = malloc(n_all * sizeof(double));
+    int64_t *counts = malloc(((size_t)n_bins + 1) * sizeof(int64_t));
+    double *dominant = malloc(((size_t)n_bins + 1) * sizeof(double));
+    int status = -1;
+    if (!values || !fixed || !counts || !dominant) goto done;
+    for (int64_t c = 0; c < k; c++) {
+        index_t n = 0;
+        for (index_t i = 0; i < rows; i++)
+            for (index_t j = 0; j < cols; j++)
+                if (samples[i * s_row + j * s_col] == c) values[n++] = (double)depth[i * d_row + j * d_col];
+        if (n == 0) continue;
+        if (correct)
+            thesis_correct_values(values, n, origin, bin_width, n_bins, dominant_fraction, tolerance, fixed, counts,
+                                  dominant);
+        else
+            memcpy(fixed, values, (size_t)n * sizeof(double));
+        n = 0;
+        for (index_t i = 0; i < rows; i++)
+            for (index_t j = 0; j < cols; j++)
+                if (samples[i * s_row + j * s_col] == c) out[i * cols + j] = fixed[n++];
+    }
+    status = 0;
+done:
+    free(values); free(fixed); free(counts); free(dominant);
+    return status;
+}
