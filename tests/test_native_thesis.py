@@ -3,11 +3,16 @@
 Each C kernel runs on the arguments numba's gets and the two results are compared bit for bit, on random
 inputs that reach their branches: one-row and one-column patches, values on the binning and class bounds,
 clusters that empty or are never used, pixels whose cell is not their cluster's, zero weights (NaN) and
-overflowing ones (inf), fallbacks of both dtypes, strided views. Skipped where the C library is not built (the thesis then runs numba's).
+overflowing ones (inf), fallbacks of both dtypes, strided views. The medians are compared with the numba
+kernels and with OpenCV. Skipped where the C library is not built (the thesis then runs numba's).
 """
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
+import cv2
 import numpy as np
 import pytest
 
@@ -194,3 +199,55 @@ def test_correct_patch_and_values_are_numbas(correct, seed):
         kernels.correct_values(np.full(3, np.nan), 0.0, 1.0, 2.0, 64, 0.5, 1.5, all_missing)
         outs.append((out, fixed, all_missing))
     assert _same(outs[0], outs[1])
+
+
+@needs_c
+@pytest.mark.parametrize("size", [3, 5, 7])
+@pytest.mark.parametrize("channels", [1, 3])
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+@pytest.mark.parametrize("shape", [(1, 1), (2, 3), (7, 700), (33, 90)])
+def test_the_c_medians_are_numbas_and_opencvs(size, channels, dtype, shape):
+    from depthrefine.methods.thesis import _median_kernels
+
+    rng = np.random.default_rng(size * channels + shape[1])
+    image = rng.integers(0, np.iinfo(dtype).max, shape + (channels,), endpoint=True).astype(dtype)
+    image[:, ::5] = image[:, :1]                                               # ties
+    flat = image.reshape(shape[0], -1)
+    c_out, jit_out = np.zeros_like(flat), np.zeros_like(flat)
+    getattr(_median_kernels, f"median{size}_c{channels}")(flat, jit_out, 0, shape[0])
+    middle = 2 * ((shape[0] + 1) // 4)                                          # in two bands, as two threads run it
+    assert _c().median_rows(flat, c_out, size, channels, 0, middle)
+    assert _c().median_rows(flat, c_out, size, channels, middle, shape[0])
+    assert _same(c_out, jit_out)
+    if dtype == np.uint8:
+        expected = cv2.medianBlur(np.ascontiguousarray(image if channels == 3 else image[..., 0]), size)
+        assert _same(c_out, expected.reshape(flat.shape))
+
+
+@needs_c
+def test_the_c_medians_leave_other_sizes_and_dtypes_to_numba():
+    flat = np.zeros((4, 12), np.uint8)
+    assert not _c().median_rows(flat, flat.copy(), 9, 3, 0, 4)
+    assert not _c().median_rows(flat.astype(np.int16), flat.astype(np.int16), 7, 3, 0, 4)
+
+
+_THESIS = ("import hashlib, sys, numpy as np, depthrefine; "
+           "from depthrefine.bench.synthetic import make_scene; "
+           "s = make_scene((384, 512), 4, n_objects=4, seed=5, color_noise_std=3.0, shading=0.2); "
+           "out = depthrefine.refine(s.depth_lr, s.rgb_hr, method='thesis'); "
+           "print('numba' in sys.modules, hashlib.sha256(out.tobytes()).hexdigest())")
+
+
+@needs_c
+def test_the_thesis_in_a_fresh_process_runs_without_numba_and_gives_numbas_result():
+    import os
+
+    def fresh(**env):
+        out = subprocess.run([sys.executable, "-c", _THESIS], capture_output=True, text=True,
+                             env={**os.environ, **env}, timeout=300)
+        assert out.returncode == 0, out.stderr
+        return out.stdout.split()
+
+    native, forced = fresh(), fresh(DEPTHREFINE_KERNELS="numba")
+    assert native[0] == "False" and forced[0] == "True"
+    assert native[1] == forced[1]

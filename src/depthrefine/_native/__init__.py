@@ -114,6 +114,7 @@ def _declare(lib: ctypes.CDLL) -> None:
         "dr_correct_values": (ctypes.c_int, [_p, _i, _c_double, _c_double, _i, _c_double, _c_double, _p]),
         "dr_correct_patch": (ctypes.c_int, [_p, _i, _i, _p, _i, _i, _i, _i, _c_int64, ctypes.c_int, _c_double,
                                             _c_double, _i, _c_double, _c_double, _p]),
+        "dr_median": (ctypes.c_int, [_p, _p, _i, _i, ctypes.c_int, ctypes.c_int, ctypes.c_int, _i, _i]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)
@@ -369,6 +370,16 @@ def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
                                     int(bool(correct)), float(origin), float(bin_width), int(n_bins),
                                     float(dominant_fraction), float(tolerance), _ptr(out, np.float64)))
 
-    return dict(quantize_lab=quantize_lab, feature_codes=feature_codes, lookup=lookup, lloyd=lloyd,
+    def median_rows(flat, oflat, size, channels, y0, y1) -> bool:
+        """Rows ``y0 .. y1-1`` of the median of ``median.median_filter``'s generated kernels into ``oflat``; False
+        (nothing done) where kernels.c has no kernel for the size, channel count or dtype."""
+        if flat.dtype not in (np.uint8, np.uint16) or oflat.shape != flat.shape:
+            return False
+        status = lib.dr_median(_ptr(flat, flat.dtype), _ptr(oflat, flat.dtype), flat.shape[0], flat.shape[1],
+                               int(size), int(channels), flat.itemsize, int(y0), int(y1))
+        _check(0 if status != -1 else -1)
+        return status == 0
+
+    return dict(median_rows=median_rows, quantize_lab=quantize_lab, feature_codes=feature_codes, lookup=lookup, lloyd=lloyd,
                 grow_samples=grow_samples, interpolate_patch=interpolate_patch, fill_missing=fill_missing,
                 correct_values=correct_values, correct_patch=correct_patch)
