@@ -165,4 +165,5 @@ def test_gbp_runs_without_numba_on_the_c_kernels(scene, no_numba):
         out = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method=method)
         assert out.shape == scene.rgb_hr.shape[:2] and np.isfinite(out).all()
     with pytest.raises(ModuleNotFoundError):
-        depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis", params=depthrefine.ThesisParams(median_size=9))
+        depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis",
+                           params=depthrefine.ThesisParams(median_size=9))

@@ -380,6 +380,7 @@ def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
         _check(0 if status != -1 else -1)
         return status == 0
 
-    return dict(median_rows=median_rows, quantize_lab=quantize_lab, feature_codes=feature_codes, lookup=lookup, lloyd=lloyd,
+    return dict(median_rows=median_rows, quantize_lab=quantize_lab, feature_codes=feature_codes, lookup=lookup,
+                lloyd=lloyd,
                 grow_samples=grow_samples, interpolate_patch=interpolate_patch, fill_missing=fill_missing,
                 correct_values=correct_values, correct_patch=correct_patch)

@@ -218,7 +218,7 @@ class _Staged(NamedTuple):
 
 
 def _staged(size: int, channels: int) -> _Staged:
-    """The stages of the generated kernel ``median{size}_c{channels}`` and its buffer's rows (see :func:`_kernel_source`)."""
+    """The stages of the kernel ``median{size}_c{channels}`` and its buffer's rows (see :func:`_kernel_source`)."""
     n_in, ops, outs, need = _program(size)
     level: dict[int, int] = {}
     for v, _, a, a_off, b, b_off in ops:
@@ -343,8 +343,8 @@ def _c_kernel_source(size: int, channels: int, ctype: str) -> str:
     o0, o1 = g.row[g.outs[0]] * width, g.row[g.outs[1]] * width
     name = f"median{size}_c{channels}_{ctype[:-2]}"
     return f"""
-static void {name}(const {ctype} *restrict flat, {ctype} *restrict oflat, index_t rows, index_t lanes, index_t y0,
-{" " * (len(name) + 13)}index_t y1, {ctype} *restrict buf)
+static void {name}(const {ctype} *restrict flat, {ctype} *restrict oflat, index_t rows, index_t lanes,
+{" " * (len(name) + 13)}index_t y0, index_t y1, {ctype} *restrict buf)
 {{
     for (index_t y = y0; y < y1; y += 2) {{
         for (index_t c0 = 0; c0 < lanes; c0 += {strip}) {{
@@ -372,8 +372,8 @@ def c_kernels_source() -> str:
 
     ``python -m depthrefine.methods.thesis.median --c src/depthrefine/_native/kernels.c`` writes it there.
     """
-    text = (C_BEGIN + "/* Min/max-network medians (methods/thesis/median.py): the kernels of _median_kernels.py, the same "
-            "program,\n * stages, rows and lanes. A min or max of two integers is exact in any order. */\n\n"
+    text = (C_BEGIN + "/* Min/max-network medians (methods/thesis/median.py): the kernels of _median_kernels.py, "
+            "the same\n * program, stages, rows and lanes. A min or max of two integers is exact in any order. */\n\n"
             "#define MEDIAN_MIN(a, b) ((b) < (a) ? (b) : (a))\n#define MEDIAN_MAX(a, b) ((b) > (a) ? (b) : (a))\n")
     cases = []
     for size in GENERATED_SIZES:
@@ -385,12 +385,14 @@ def c_kernels_source() -> str:
                 cases.append(f"    if (size == {size} && channels == {channels} && itemsize == {itemsize}) {{\n"
                              f"        buf = calloc({g.n_rows * g.width}, {itemsize});\n"
                              f"        if (buf) {name}(flat, oflat, rows, lanes, y0, y1, buf);\n    }}")
-    text += ("\n/* Rows y0 .. y1-1 of the size x size median of flat ((rows, lanes) lanes, channels interleaved, elements of"
-             "\n * itemsize bytes) into oflat. Returns -2 when no kernel is generated for them, -1 when memory is short. */\n"
-             "EXPORT int dr_median(const void *flat, void *oflat, index_t rows, index_t lanes, int size, int channels,\n"
+    text += ("\n/* Rows y0 .. y1-1 of the size x size median of flat ((rows, lanes) lanes, channels interleaved, "
+             "elements of\n * itemsize bytes) into oflat. Returns -2 when no kernel is generated for them, -1 when "
+             "memory is short. */\nEXPORT int dr_median(const void *flat, void *oflat, index_t rows, index_t lanes, "
+             "int size, int channels,\n"
              "                     int itemsize, index_t y0, index_t y1)\n{\n    void *buf = NULL;\n"
              + "\n    else ".join(cases).replace("    else     if", "    else if")
-             + "\n    else\n        return -2;\n    int status = buf ? 0 : -1;\n    free(buf);\n    return status;\n}\n" + C_END)
+             + "\n    else\n        return -2;\n    int status = buf ? 0 : -1;\n    free(buf);\n    return status;\n}\n"
+             + C_END)
     return text
 
 
