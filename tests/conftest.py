@@ -65,7 +65,8 @@ def no_numba(monkeypatch):
 
 @pytest.fixture
 def numba_kernels(monkeypatch):
-    """gbp runs numba's kernels, not depthrefine's C ones (``DEPTHREFINE_KERNELS=numba``), for this test."""
+    """gbp and the thesis method run numba's kernels, not depthrefine's C ones (``DEPTHREFINE_KERNELS=numba``), for
+    this test."""
     from depthrefine import _native
 
     monkeypatch.setenv(_native.ENV, "numba")

@@ -432,8 +432,9 @@ def test_internal_error_traceback_with_debug(tmp_path, capsys, monkeypatch, wher
     assert _snapshot(tmp_path) == before
 
 
-def test_missing_dependency_one_line_exit_2(tmp_path, capsys, monkeypatch, no_numba):
-    """numba not installed (or broken): the thesis method says what to install, exit 2, no traceback, no output."""
+def test_missing_dependency_one_line_exit_2(tmp_path, capsys, monkeypatch, numba_kernels, no_numba):
+    """numba not installed (or broken) where the thesis method needs it (its C kernels not built, here forced off):
+    it says what to install, exit 2, no traceback, no output."""
     ws = Workspace(tmp_path)
     before = _snapshot(tmp_path)
     code, err = _run(ws.refine(), capsys)
@@ -918,8 +919,9 @@ def test_other_cases_cover_every_command():
     assert commands <= covered, f"no bad-input case for {sorted(commands - covered)}"
 
 
-def test_missing_dependency_in_batch_says_what_to_install(monkeypatch, no_numba):
-    """A frame that needs a missing package (numba for the thesis method) fails with the pip advice, not an internal error."""
+def test_missing_dependency_in_batch_says_what_to_install(monkeypatch, numba_kernels, no_numba):
+    """A frame that needs a missing package (numba for the thesis method without its C kernels) fails with the pip
+    advice, not an internal error."""
     from distributed import Client, LocalCluster
 
     from depthrefine.batch import refine_many

@@ -154,14 +154,16 @@ def test_batch_without_numba_says_pip_install_numba(monkeypatch, scene, numba_ke
 
 
 def test_gbp_runs_without_numba_on_the_c_kernels(scene, no_numba):
-    """Where the C kernels are built, gbp and gbp-fast need no numba; the thesis method still does."""
+    """Where the C kernels are built, gbp, gbp-fast and the thesis method need no numba; a thesis median without a
+    generated kernel (9x9) still does."""
     import depthrefine
     from depthrefine import _native
 
     if _native.library() is None:
         pytest.skip(f"depthrefine's C kernels: {_native.why_not()}")
-    for method in ("gbp", "gbp-fast"):
+    for method in ("gbp", "gbp-fast", "thesis"):
         out = depthrefine.refine(scene.depth_lr, scene.rgb_hr, method=method)
         assert out.shape == scene.rgb_hr.shape[:2] and np.isfinite(out).all()
     with pytest.raises(ModuleNotFoundError):
-        depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis")
+        depthrefine.refine(scene.depth_lr, scene.rgb_hr, method="thesis",
+                           params=depthrefine.ThesisParams(median_size=9))

@@ -98,6 +98,14 @@ def test_generated_kernels_are_current():
     assert path.read_text() == median_module.kernels_module()
 
 
+def test_generated_c_kernels_are_current():
+    # kernels.c's median section is generated
+    # (python -m depthrefine.methods.thesis.median --c src/depthrefine/_native/kernels.c).
+    text = (Path(median_module.__file__).parents[2] / "_native" / "kernels.c").read_text()
+    begin, end = text.index(median_module.C_BEGIN), text.index(median_module.C_END) + len(median_module.C_END)
+    assert text[begin:end] == median_module.c_kernels_source()
+
+
 @pytest.mark.parametrize("size", [3, 5, 7])
 @pytest.mark.parametrize(("shape", "dtype"), [((6, 700), np.uint8), ((6, 700), np.uint16), ((5, 300, 3), np.uint8),
                                               ((4, 90, 3), np.uint8)])

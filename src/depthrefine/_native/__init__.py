@@ -1,4 +1,5 @@
-"""gbp's kernels compiled ahead of time (``kernels.c``, built at install), or numba's when they are not built.
+"""gbp's and the thesis method's kernels compiled ahead of time (``kernels.c``, built at install), or numba's when
+they are not built.
 
 A fresh process that runs gbp through numba spends about half a second
 before its first kernel (numba's import and the set-up of its CPU target:
@@ -18,7 +19,10 @@ check what would make C read or write out of bounds or round otherwise than
 numba (dtypes, C-contiguity, float32 scalars),
 not the shapes' agreement, which the modules that call them check
 (``methods/_wls.py``, ``methods/_resample.py``, ``methods/gbp/_offsets.py``,
-``methods/gbp/fattening.py``, ``_geodesic.py``).
+``methods/gbp/fattening.py``, ``_geodesic.py``). The thesis method's
+(``methods/thesis/_jit.py``: every kernel but ``median_rows``, the table
+interpreter for window sizes without a generated kernel) check their shapes
+too, and hand dtypes the method never gives them to numba's kernel.
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ __all__ = ["kernels", "c_kernels", "library", "why_not", "describe"]
 ENV = "DEPTHREFINE_KERNELS"
 
 #: The C functions' signatures this module calls: kernels.c's DEPTHREFINE_KERNELS_ABI must say the same.
-ABI = 3
+ABI = 4
 
 _lock = threading.Lock()
 _loaded: list = []          # [library or None, reason it is None]
@@ -98,6 +102,19 @@ def _declare(lib: ctypes.CDLL) -> None:
         "dr_nearest_seen": (ctypes.c_int, [_p, _i, _i, _c_double, ctypes.c_int, _p, _i, _i]),
         "dr_geodesic_sweeps": (None, [_p, _p, _p, _p, _p, _i, _i, _i]),
         "dr_search": (ctypes.c_int, [_p, _p, _p, _p, _p, _i, _i, _c_int64, _c_double, _p, _p, _p, _p, _i, _i]),
+        # the thesis method's (methods/thesis/_jit.py)
+        "dr_quantize_lab": (None, [_p, _i, _i, _c_float, _c_float, ctypes.c_int, _c_float, _c_float, _p, _p, _p, _p,
+                                   _p, _p]),
+        "dr_feature_codes": (None, [_p, _p, _p, _i, _c_int64, _c_int64, _c_int64, _c_int64, _c_int64, _p, _p, _i]),
+        "dr_lookup": (None, [_p, _p, _i, _p]),
+        "dr_lloyd": (_c_int64, [_p, _p, _i, _i, _p, _i, _c_int64, _p, _p]),
+        "dr_grow_samples": (None, [_p, _i, _i, _i, _p, _p, _p]),
+        "dr_interpolate_patch": (_c_int64, [_p, _i, _i, _p, _p, _i, _i, _p, _p, _p, _p, _p, _p, _p, _p, _p]),
+        "dr_fill_missing": (None, [_p, _i, _i, _p, ctypes.c_int, _i, _p, _p]),
+        "dr_correct_values": (ctypes.c_int, [_p, _i, _c_double, _c_double, _i, _c_double, _c_double, _p]),
+        "dr_correct_patch": (ctypes.c_int, [_p, _i, _i, _p, _i, _i, _i, _i, _c_int64, ctypes.c_int, _c_double,
+                                            _c_double, _i, _c_double, _c_double, _p]),
+        "dr_median": (ctypes.c_int, [_p, _p, _i, _i, ctypes.c_int, ctypes.c_int, ctypes.c_int, _i, _i]),
     }
     for name, (restype, argtypes) in signatures.items():
         function = getattr(lib, name)
@@ -237,9 +254,133 @@ def _wrappers(lib: ctypes.CDLL) -> SimpleNamespace:
                              _ptr(offsets, np.float64), _ptr(angles, np.float64), _ptr(found, np.int64), int(i0),
                              int(i1)))
 
+    thesis = _thesis_wrappers(lib, np, _ptr, _f32)
     _namespace.append(SimpleNamespace(
-        sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
+        **thesis, sweep_columns=sweep_columns, solve_columns=solve_columns, color_weight_rows=color_weight_rows,
         edge_weight_rows=edge_weight_rows, depth_weight_rows=depth_weight_rows, enlarge_rows=enlarge_rows,
         clip_rows=clip_rows, clip_toward_rows=clip_toward_rows, hypot_rows=hypot_rows, nearest_seen=nearest_seen,
         sweeps=sweeps, search=search, expf32=lib.dr_exp_f32))
     return _namespace[0]
+
+
+def _thesis_jit(name: str):
+    """The numba kernel ``name`` of the thesis method, for arguments its C twin does not take (imports numba)."""
+    return getattr(importlib.import_module("depthrefine.methods.thesis._jit"), name)
+
+
+def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
+    """The thesis method's C kernels under the names and arguments of ``methods/thesis/_jit.py``'s.
+
+    The method gives them the dtypes below; other dtypes that numba's would compile a kernel for (a float64
+    L*a*b* patch in :func:`~depthrefine.methods.thesis.segment.cluster_colors`, an integer fallback map) go to
+    numba's kernel, as does a k-means round that keeps no cluster (no positive weight).
+    """
+    i64 = np.int64
+
+    def _strides(a: np.ndarray, dtype) -> tuple[int, int, int]:
+        """The address of a 2-D array of ``dtype`` and its strides in elements (any strides, as numba takes)."""
+        if a.dtype != dtype or a.ndim != 2 or any(st % a.itemsize for st in a.strides):
+            raise TypeError(f"depthrefine's C kernels take 2-D {np.dtype(dtype)} arrays; got {a.dtype}, "
+                            f"strides {a.strides}")
+        return a.__array_interface__["data"][0], a.strides[0] // a.itemsize, a.strides[1] // a.itemsize
+
+    def quantize_lab(lab, inv_step, half, unify, black, white, qa, qb, first):
+        if lab.dtype != np.float32 or not isinstance(black, np.float32) or not isinstance(white, np.float32):
+            return _thesis_jit("quantize_lab")(lab, inv_step, half, unify, black, white, qa, qb, first)
+        rows, cols = qa.shape
+        if lab.shape != (rows, cols, 3) or not qa.shape == qb.shape == first.shape:
+            raise TypeError(f"lab must be (rows, cols, 3) and qa, qb, first (rows, cols); got {lab.shape}, "
+                            f"{qa.shape}, {qb.shape}, {first.shape}")
+        ranges, n_cls, sum_l = np.empty(6, i64), np.empty(3, i64), np.empty(3, np.float64)
+        lib.dr_quantize_lab(_ptr(lab), rows, cols, _f32(inv_step), _f32(half), int(bool(unify)), float(black),
+                            float(white), _ptr(qa, np.int32), _ptr(qb, np.int32), _ptr(first, np.int32),
+                            _ptr(ranges, i64), _ptr(n_cls, i64), _ptr(sum_l, np.float64))
+        return (*(int(v) for v in ranges), n_cls, sum_l)
+
+    def feature_codes(qa, qb, first, a0, na, b0, nb, f0, code, counts):
+        if not qa.shape == qb.shape == first.shape == code.shape or counts.ndim != 1:
+            raise TypeError("qa, qb, first and code must have one shape, counts one dimension")
+        lib.dr_feature_codes(_ptr(qa, np.int32), _ptr(qb, np.int32), _ptr(first, np.int32), qa.size, int(a0),
+                             int(na), int(b0), int(nb), int(f0), _ptr(code, np.int32), _ptr(counts, np.intp),
+                             counts.shape[0])
+
+    def lookup(table, index, out):
+        if index.shape != out.shape:
+            raise TypeError(f"out must have index's shape {index.shape}; got {out.shape}")
+        lib.dr_lookup(_ptr(table, np.int16), _ptr(index, np.int32), index.size, _ptr(out, np.int16))
+
+    def lloyd(x, w, means, iterations):
+        n, dims = x.shape
+        if w.shape != (n,) or means.ndim != 2 or means.shape[1] != dims:
+            raise TypeError(f"w must be ({n},) and means (k, {dims}); got {w.shape}, {means.shape}")
+        labels, out = np.empty(n, np.int32), np.empty(means.shape, np.float64)
+        kept = lib.dr_lloyd(_ptr(x), _ptr(w, np.float64), n, dims, _ptr(means, np.float64), means.shape[0],
+                            int(iterations), _ptr(labels, np.int32), _ptr(out, np.float64))
+        if kept == -2:
+            return _thesis_jit("lloyd")(x, w, means, iterations)
+        _check(0 if kept >= 0 else -1)
+        return labels, out[:kept]
+
+    def grow_samples(masks, corrected, values, grown):
+        k, rows, cols = masks.shape
+        if corrected.shape != (rows, cols) or not masks.shape == values.shape == grown.shape:
+            raise TypeError("corrected must be (rows, cols) and masks, values, grown (k, rows, cols)")
+        lib.dr_grow_samples(_ptr(masks, np.bool_), k, rows, cols, _ptr(corrected, np.float64),
+                            _ptr(values, np.float64), _ptr(grown, np.bool_))
+
+    def interpolate_patch(filled, cell_label, labels, weighted, present, i0, i1, fr, j0, j1, fc, out):
+        rows, cols = labels.shape
+        n_lr, w_lr = filled.shape
+        if (cell_label.shape != filled.shape or weighted.shape != present.shape or weighted.shape[1:] != filled.shape
+                or out.shape != labels.shape or not i0.shape == i1.shape == fr.shape == (rows,)
+                or not j0.shape == j1.shape == fc.shape == (cols,)):
+            raise TypeError("interpolate_patch: the arrays' shapes do not agree")
+        bad = lib.dr_interpolate_patch(_ptr(filled), n_lr, w_lr, _ptr(cell_label, np.int16), _ptr(labels, np.int16),
+                                       rows, cols, _ptr(weighted, np.float64), _ptr(present, np.float64),
+                                       _ptr(i0, np.intp), _ptr(i1, np.intp), _ptr(fr, np.float64), _ptr(j0, np.intp),
+                                       _ptr(j1, np.intp), _ptr(fc, np.float64), _ptr(out))
+        _check(0 if bad >= 0 else -1)
+        return bad
+
+    def fill_missing(result, fallback, near_rows, near_cols):
+        if fallback.dtype not in (np.float32, np.float64):
+            return _thesis_jit("fill_missing")(result, fallback, near_rows, near_cols)
+        rows, cols = result.shape
+        if near_rows.shape != (rows,) or near_cols.shape != (cols,):
+            raise TypeError("near_rows and near_cols must have result's rows and columns")
+        address, row_stride, col_stride = _strides(fallback, fallback.dtype)
+        if col_stride != 1 or row_stride < fallback.shape[1]:
+            raise TypeError(f"fallback's rows must be contiguous; got strides {fallback.strides}")
+        lib.dr_fill_missing(_ptr(result), rows, cols, address, int(fallback.dtype == np.float64), row_stride,
+                            _ptr(near_rows, np.intp), _ptr(near_cols, np.intp))
+
+    def correct_values(values, origin, level_size, bin_width, n_bins, dominant_fraction, tolerance, out):
+        if values.ndim != 1 or out.shape != values.shape or int(n_bins) < 1:
+            raise TypeError("values and out must be one-dimensional, of one shape, with n_bins >= 1")
+        _check(lib.dr_correct_values(_ptr(values, np.float64), values.shape[0], float(origin), float(bin_width),
+                                     int(n_bins), float(dominant_fraction), float(tolerance), _ptr(out, np.float64)))
+
+    def correct_patch(depth, samples, k, correct, origin, level_size, bin_width, n_bins, dominant_fraction,
+                      tolerance, out):
+        if depth.shape != samples.shape or out.shape != depth.shape or int(n_bins) < 1:
+            raise TypeError("depth, samples and out must have one shape, with n_bins >= 1")
+        d, d_row, d_col = _strides(depth, np.float32)
+        s, s_row, s_col = _strides(samples, np.int16)
+        _check(lib.dr_correct_patch(d, d_row, d_col, s, s_row, s_col, depth.shape[0], depth.shape[1], int(k),
+                                    int(bool(correct)), float(origin), float(bin_width), int(n_bins),
+                                    float(dominant_fraction), float(tolerance), _ptr(out, np.float64)))
+
+    def median_rows(flat, oflat, size, channels, y0, y1) -> bool:
+        """Rows ``y0 .. y1-1`` of the median of ``median.median_filter``'s generated kernels into ``oflat``; False
+        (nothing done) where kernels.c has no kernel for the size, channel count or dtype."""
+        if flat.dtype not in (np.uint8, np.uint16) or oflat.shape != flat.shape:
+            return False
+        status = lib.dr_median(_ptr(flat, flat.dtype), _ptr(oflat, flat.dtype), flat.shape[0], flat.shape[1],
+                               int(size), int(channels), flat.itemsize, int(y0), int(y1))
+        _check(0 if status != -1 else -1)
+        return status == 0
+
+    return dict(median_rows=median_rows, quantize_lab=quantize_lab, feature_codes=feature_codes, lookup=lookup,
+                lloyd=lloyd,
+                grow_samples=grow_samples, interpolate_patch=interpolate_patch, fill_missing=fill_missing,
+                correct_values=correct_values, correct_patch=correct_patch)

@@ -55,7 +55,8 @@ def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Threa
     """For a method that runs numba's kernels, numba's one-time set-up in a thread (while the images are read).
 
     None for a method that runs none: not compiled, or all its kernels in
-    depthrefine's C library (gbp and gbp-fast when it is built). In the
+    depthrefine's C library (gbp, gbp-fast and the thesis method when it is
+    built: ``methods._names.NATIVE_METHODS``). In the
     process's own command line (``own_process``), which runs only
     depthrefine's kernels, numba is imported without cffi and PyYAML and set
     up without its BLAS check (``cli._numba_lean``; ``_numba.warm_up``).

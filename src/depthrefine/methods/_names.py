@@ -38,8 +38,10 @@ BUILTIN_OPTION_MODULES = {"gbp": "depthrefine.methods.gbp._options",
 #: images (:func:`depthrefine._numba.warm_up`), unless the method's kernels are all in depthrefine's C library.
 COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
 
-#: Compiled methods whose kernels depthrefine's C library holds when it is built (:mod:`depthrefine._native`).
-NATIVE_METHODS = ("gbp", "gbp-fast")
+#: Compiled methods whose kernels depthrefine's C library holds when it is built (:mod:`depthrefine._native`). The
+#: thesis method's with its medians of 3x3, 5x5 and 7x7 (the default) on uint8 or uint16 color; another median size
+#: runs a numba kernel, which numba then sets up on its first call, not in a thread beside the reading.
+NATIVE_METHODS = ("thesis", "gbp", "gbp-fast")
 
 _REGISTRY = "depthrefine.methods.registry"
 

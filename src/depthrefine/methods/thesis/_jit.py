@@ -1,7 +1,14 @@
 """Compiled per-pixel kernels of the thesis method (numba).
 
-Imported only by the thesis code when it runs (never at ``import depthrefine``):
-importing this module imports numba. Kernels are compiled on first use and
+Every kernel here but :func:`median_rows` also exists in C
+(``depthrefine/_native/kernels.c``, built at install): the thesis code takes
+them from :func:`depthrefine._native.kernels`, which gives the C ones where
+the library is built and this module otherwise. These remain the reference
+(``tests/test_native_thesis.py`` compares the two bit for bit) and the
+fallback; a change to one must be made to the other.
+
+Imported only where the C kernels are not there, or for arguments they do not
+take (never at ``import depthrefine``): importing this module imports numba. Kernels are compiled on first use and
 cached on disk (``cache=True``; numba falls back to a per-user cache
 directory when the package's own is not writable), and release the GIL
 (``nogil=True``) so that patches run in threads.

@@ -28,8 +28,9 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     no sample in reach), if ``keep`` the per-cluster maps, and the count of
     pixels that are not finite.
     """
-    from . import _jit
+    from .segment import _kernels
 
+    kernels = _kernels()
     hp, wp = corrected.shape
     valid = np.isfinite(corrected)
     # Cluster c's samples in plane c of (k, hp, wp) masks; one dilation for all planes.
@@ -38,7 +39,7 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
     if expansion == 1:   # the default: one pass of a compiled kernel instead of a dilation and a transform per cluster
         values = np.empty(masks.shape)
         grown = np.empty(masks.shape, bool)
-        _jit.grow_samples(masks, corrected, values, grown)
+        kernels.grow_samples(masks, corrected, values, grown)
     else:
         values = np.where(masks, corrected[None], 0.0)
     if expansion > 1 and masks.any():
@@ -66,8 +67,8 @@ def _interpolate_clusters(corrected, lab_samples, labels, k, s, expansion, keep)
                & (lab_valid == lab_valid[below][:, right]))
     cell_label = np.where(uniform, lab_valid, -1).astype(np.int16)
     result = np.empty(labels.shape, dtype=np.float32)
-    n_missing = _jit.interpolate_patch(np.where(valid, corrected, 0.0).astype(np.float32), cell_label, labels,
-                                       values * weights, weights, i0, i1, fr, j0, j1, fc, result)
+    n_missing = kernels.interpolate_patch(np.where(valid, corrected, 0.0).astype(np.float32), cell_label, labels,
+                                          values * weights, weights, i0, i1, fr, j0, j1, fc, result)
 
     per_cluster = None
     if keep:

@@ -259,13 +259,13 @@ def correct_cluster_depths(
     >>> correct_cluster_depths(v, origin=0, level_size=1, n_bins=256).tolist()
     [100.0, 100.0, 100.0, 101.0, 97.0, 100.0, 100.0]
     """
-    from . import _jit
+    from .segment import _kernels
 
     values = np.ascontiguousarray(values, dtype=np.float64).ravel()
     out = np.empty_like(values)
     bin_width = level_size if bin_width is None else bin_width
-    _jit.correct_values(values, float(origin), float(level_size), float(bin_width), int(n_bins),
-                        float(dominant_fraction), float(tolerance_levels * level_size), out)
+    _kernels().correct_values(values, float(origin), float(level_size), float(bin_width), int(n_bins),
+                              float(dominant_fraction), float(tolerance_levels * level_size), out)
     return out
 
 
@@ -461,7 +461,7 @@ def _solve_patches(ctx: _Context, lr_patches: list[tuple[int, int, int, int]]) -
     (NumPy and OpenCV release the GIL) and yielded in order, so the result
     does not depend on timing.
     """
-    from ..._numba import threads  # the cores this process may use (depthrefine.batch gives a worker its share)
+    from ..._threads import threads  # the cores this process may use (depthrefine.batch gives a worker its share)
 
     workers = min(len(lr_patches), threads(), _MAX_THREADS)
     solve = functools.partial(_solve_patch, ctx, lr_patches)
@@ -498,8 +498,9 @@ def _result(canvas: _Canvas, ctx: _Context, step: ScaleStep, lr_patches: list[tu
 
 def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], index: int) -> _PatchResult:
     """Steps 5-7 for patch ``index`` (pure: reads ``ctx``, writes nothing shared)."""
-    from . import _jit
+    from .segment import _kernels
 
+    kernels = _kernels()
     r0, r1, c0, c1 = lr_patches[index]
     s, params, levels = ctx.s, ctx.params, ctx.levels
     init = None if ctx.init_means is None else ctx.init_means[index]
@@ -530,10 +531,10 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
     # 4.4.3-4.4.4: per-cluster histogram correction.
     with _timed("correction"):
         corrected = np.full(d_patch.shape, np.nan, dtype=np.float64)
-        _jit.correct_patch(d_patch, lab_samples, k, bool(params.correct_depth), float(levels.origin),
-                           float(levels.level_size), float(levels.bin_width), int(levels.n_bins),
-                           float(params.dominant_fraction), float(params.tolerance_levels * levels.level_size),
-                           corrected)
+        kernels.correct_patch(d_patch, lab_samples, k, bool(params.correct_depth), float(levels.origin),
+                              float(levels.level_size), float(levels.bin_width), int(levels.n_bins),
+                              float(params.dominant_fraction), float(params.tolerance_levels * levels.level_size),
+                              corrected)
 
     # 4.5: per-cluster expansion, interpolation, reshaping, combination.
     with _timed("interpolation"):
@@ -541,8 +542,8 @@ def _solve_patch(ctx: _Context, lr_patches: list[tuple[int, int, int, int]], ind
                                                                params.expansion, ctx.keep)
         if n_missing:
             fallback = fill_invalid_nearest(corrected) if np.isfinite(corrected).any() else ctx.nearest[r0:r1, c0:c1]
-            _jit.fill_missing(result, fallback, _nearest_samples(result.shape[0], s, r1 - r0),
-                              _nearest_samples(result.shape[1], s, c1 - c0))
+            kernels.fill_missing(result, fallback, _nearest_samples(result.shape[0], s, r1 - r0),
+                                 _nearest_samples(result.shape[1], s, c1 - c0))
     return _PatchResult(depth=result, corrected=corrected, lab_samples=lab_samples,
                         labels=labels if ctx.keep else None, features=features if ctx.keep else None,
                         per_cluster=per_cluster if ctx.keep else None, means=means)

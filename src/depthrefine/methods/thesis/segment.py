@@ -218,11 +218,16 @@ def kmeans(
     return labels, means
 
 
+def _kernels():
+    """The thesis method's kernels: the C ones when built (:mod:`depthrefine._native`), else numba's (:mod:`._jit`)."""
+    from ..._native import kernels
+
+    return kernels(__package__ + "._jit")
+
+
 def _lloyd(x: np.ndarray, w: np.ndarray, means: np.ndarray, iterations: int) -> tuple[np.ndarray, np.ndarray]:
     """``iterations`` rounds of assignment and update from ``means``; empty clusters dropped, labels renumbered."""
-    from . import _jit
-
-    return _jit.lloyd(np.ascontiguousarray(x, dtype=np.float32), np.ascontiguousarray(w, dtype=np.float64),
+    return _kernels().lloyd(np.ascontiguousarray(x, dtype=np.float32), np.ascontiguousarray(w, dtype=np.float64),
                       np.ascontiguousarray(means, dtype=np.float64), iterations)
 
 
@@ -278,8 +283,7 @@ def cluster_colors(
     >>> cluster_colors(rgb_to_lab(rgb), n_clusters=2).tolist()
     [[1, 1, 0, 0]]
     """
-    from . import _jit
-
+    kernels = _kernels()
     lab_patch = np.ascontiguousarray(lab_patch)  # one compiled signature per dtype
     shape = lab_patch.shape[:2]
     # Bin a* and b* (and L* when it is not unified); codes are local to the
@@ -288,7 +292,7 @@ def cluster_colors(
     bounds = [np.result_type(lab_patch.dtype, v).type(v) for v in (black_bound * max_lightness,
                                                                    white_bound * max_lightness)]
     qa, qb, first = (np.empty(shape, np.int32) for _ in range(3))
-    a0, a1, b0, b1, f0, f1, n_cls, sum_l = _jit.quantize_lab(
+    a0, a1, b0, b1, f0, f1, n_cls, sum_l = kernels.quantize_lab(
         lab_patch, np.float32(1.0 / AB_STEP), np.float32(0.5), bool(unify), *bounds, qa, qb, first)
     na, nb = a1 - a0 + 1, b1 - b0 + 1
     if unify:
@@ -302,7 +306,7 @@ def cluster_colors(
     dense = space <= 4 * qa.size
     code = np.empty(shape, np.int32)
     counts = np.zeros(space if dense else 0, np.intp)
-    _jit.feature_codes(qa, qb, first, a0, na, b0, nb, f0, code, counts)
+    kernels.feature_codes(qa, qb, first, a0, na, b0, nb, f0, code, counts)
     if dense:
         bins = np.flatnonzero(counts)
         weights = counts[bins]
@@ -319,7 +323,7 @@ def cluster_colors(
         lut = np.empty(space, dtype=np.int16)
         lut[bins] = bin_labels
         labels = np.empty(shape, dtype=np.int16)
-        _jit.lookup(lut, code, labels)
+        kernels.lookup(lut, code, labels)
     else:
         labels = bin_labels.astype(np.int16)[inverse].reshape(code.shape)
     if not return_features:
