@@ -212,7 +212,7 @@ def format_first_call(result: dict) -> list[str]:
 def add_kernels_option(ap: argparse.ArgumentParser) -> None:
     """``--kernels built|numba``: which kernels gbp runs in this process and every one it starts (:func:`use_kernels`)."""
     ap.add_argument("--kernels", choices=("built", "numba"), default="built",
-                    help="gbp's kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
+                    help="the compiled kernels: the C ones when built (default), or numba's (DEPTHREFINE_KERNELS=numba)")
 
 
 def use_kernels(choice: str) -> None:

@@ -372,8 +372,8 @@ def test_the_geodesic_sweeps_are_numbas(shape, passes):
     assert (c_args[4] >= 0).sum() > free.size // 2
 
 
-def test_version_says_which_kernels_gbp_runs():
-    expected = "gbp's kernels: C" if lib is not None else "gbp's kernels: numba (C ones: "
+def test_version_says_which_compiled_kernels_run():
+    expected = "compiled kernels: C" if lib is not None else "compiled kernels: numba (C ones: "
     assert expected in _fresh("from depthrefine.cli import main; main(['--version'])")
-    assert "gbp's kernels: numba (C ones: DEPTHREFINE_KERNELS=numba)" in _fresh(
+    assert "compiled kernels: numba (C ones: DEPTHREFINE_KERNELS=numba)" in _fresh(
         "from depthrefine.cli import main; main(['--version'])", DEPTHREFINE_KERNELS="numba")

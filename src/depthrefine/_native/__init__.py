@@ -141,8 +141,8 @@ def _check(status: int) -> None:
 
 
 def describe() -> str:
-    """Which kernels gbp runs, in a few words (``depthrefine --version``)."""
-    return "gbp's kernels: C" if library() is not None else f"gbp's kernels: numba (C ones: {why_not()})"
+    """Which compiled kernels gbp and the thesis method run, in a few words (``depthrefine --version``)."""
+    return "compiled kernels: C" if library() is not None else f"compiled kernels: numba (C ones: {why_not()})"
 
 
 def why_not() -> str:
@@ -381,6 +381,5 @@ def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
         return status == 0
 
     return dict(median_rows=median_rows, quantize_lab=quantize_lab, feature_codes=feature_codes, lookup=lookup,
-                lloyd=lloyd,
-                grow_samples=grow_samples, interpolate_patch=interpolate_patch, fill_missing=fill_missing,
+                lloyd=lloyd, grow_samples=grow_samples, interpolate_patch=interpolate_patch, fill_missing=fill_missing,
                 correct_values=correct_values, correct_patch=correct_patch)

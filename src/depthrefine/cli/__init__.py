@@ -60,11 +60,11 @@ class CliError(Exception):
 
 
 class _Version(argparse.Action):
-    """``--version``: the package's version and which kernels gbp runs (C or numba, and why), made when asked."""
+    """``--version``: the package's version and which compiled kernels gbp and the thesis method run (C or numba, and why), made when asked."""
 
     def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
         super().__init__(option_strings, dest=dest, default=default, nargs=0,
-                         help=help or "show the version and which kernels gbp runs, and exit")
+                         help=help or "show the version and which compiled kernels run (C or numba), and exit")
 
     def __call__(self, parser, namespace, values, option_string=None):
         from .._native import describe   # ctypes only: no numpy, no numba

@@ -228,7 +228,7 @@ def _kernels():
 def _lloyd(x: np.ndarray, w: np.ndarray, means: np.ndarray, iterations: int) -> tuple[np.ndarray, np.ndarray]:
     """``iterations`` rounds of assignment and update from ``means``; empty clusters dropped, labels renumbered."""
     return _kernels().lloyd(np.ascontiguousarray(x, dtype=np.float32), np.ascontiguousarray(w, dtype=np.float64),
-                      np.ascontiguousarray(means, dtype=np.float64), iterations)
+                            np.ascontiguousarray(means, dtype=np.float64), iterations)
 
 
 #: k-means runs over the histogram of distinct features, with a* and b*
