@@ -235,7 +235,7 @@ _THESIS = ("import hashlib, sys, numpy as np, depthrefine; "
            "from depthrefine.bench.synthetic import make_scene; "
            "s = make_scene((384, 512), 4, n_objects=4, seed=5, color_noise_std=3.0, shading=0.2); "
            "out = depthrefine.refine(s.depth_lr, s.rgb_hr, method='thesis'); "
-           "print('numba' in sys.modules, hashlib.sha256(out.tobytes()).hexdigest())")
+           "print('numba' in sys.modules, hashlib.sha256(out.tobytes()).hexdigest(), 'numpy.ma' in sys.modules)")
 
 
 @needs_c
@@ -251,3 +251,13 @@ def test_the_thesis_in_a_fresh_process_runs_without_numba_and_gives_numbas_resul
     native, forced = fresh(), fresh(DEPTHREFINE_KERNELS="numba")
     assert native[0] == "False" and forced[0] == "True"
     assert native[1] == forced[1]
+    assert native[2] == "False"     # nor numpy.ma (np.unique's first call imports it: 37 ms)
+
+
+def test_the_command_line_builds_opencvs_lab_tables_while_it_reads_for_the_thesis_method():
+    from depthrefine.cli.refine import _warm_up_lab
+
+    assert _warm_up_lab("gbp") is None and _warm_up_lab("bicubic") is None
+    thread = _warm_up_lab("thesis")
+    thread.join(timeout=60)
+    assert thread.name == "depthrefine-lab-warm-up" and not thread.is_alive()

@@ -43,12 +43,32 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    warm = _warm_up_numba(args.method, own_process=getattr(args, "own_process", False))
+    warm = [thread for thread in (_warm_up_numba(args.method, own_process=getattr(args, "own_process", False)),
+                                  _warm_up_lab(args.method)) if thread is not None]
     try:
         return _run(args)
     finally:
-        if warm is not None:
-            warm.join()
+        for thread in warm:
+            thread.join()
+
+
+def _warm_up_lab(method: str) -> threading.Thread | None:
+    """For a method that converts the guide to L*a*b* (``methods._names.LAB_METHODS``), OpenCV's one-time
+    conversion tables built in a thread while the images are read (OpenCV releases the GIL); else None."""
+    from ..methods._names import LAB_METHODS
+
+    if method not in LAB_METHODS:
+        return None
+
+    def warm() -> None:
+        import cv2
+        import numpy as np
+
+        cv2.cvtColor(np.zeros((1, 1, 3), np.float32), cv2.COLOR_RGB2Lab)
+
+    thread = threading.Thread(target=warm, name="depthrefine-lab-warm-up")
+    thread.start()
+    return thread
 
 
 def _warm_up_numba(method: str, *, own_process: bool = False) -> threading.Thread | None:

@@ -43,6 +43,11 @@ COMPILED_METHODS = ("thesis", "gbp", "gbp-fast")
 #: runs a numba kernel, which numba then sets up on its first call, not in a thread beside the reading.
 NATIVE_METHODS = ("thesis", "gbp", "gbp-fast")
 
+#: Built-in methods that convert the guide to CIE L*a*b* with OpenCV, which builds its conversion tables on the
+#: first conversion in a process (about 170 ms of one core): the command line has it done in a thread while it
+#: reads the images.
+LAB_METHODS = ("thesis",)
+
 _REGISTRY = "depthrefine.methods.registry"
 
 
