@@ -216,6 +216,29 @@ def test_the_offset_search_is_numbas(reach, quantum, centre):
 
 
 @needs_c
+def test_the_offset_search_skips_a_gradient_without_direction():
+    """A depth gradient that overflowed float32 (inf / inf: no direction) is no ridge pixel, in C and in numba
+    alike (C gathered from an index made of NaN and crashed); the finite pixels beside it are searched as usual."""
+    gx = np.zeros((8, 9), np.float32)
+    gy = np.zeros_like(gx)
+    gx[4, 2:7] = [np.inf, 5.0, np.inf, -5.0, np.nan]
+    magnitude = np.abs(gx)
+    magnitude[4, 6] = np.inf
+    band = magnitude > 0
+    per_row = np.count_nonzero(band, axis=1)
+    row_start = np.concatenate([[0], np.cumsum(per_row)[:-1]]).astype(np.int64)
+
+    def make():
+        total = int(per_row.sum())
+        return (band, magnitude, gx, gy, np.ones_like(gx), 3, 1.5, row_start, np.full(total, np.nan),
+                np.full(total, np.nan), np.zeros(band.shape[0], np.int64))
+
+    jit, c = _both("search", "depthrefine.methods.gbp._offsets_jit", make, (0, band.shape[0]))
+    for a, b in zip(jit[8:], c[8:]):
+        assert _same(a, b)
+
+
+@needs_c
 def test_the_gradient_magnitude_is_numpys_expression_to_the_bit():
     from depthrefine.methods.gbp.fattening import _hypot
 

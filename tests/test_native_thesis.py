@@ -225,6 +225,14 @@ def test_the_c_medians_are_numbas_and_opencvs(size, channels, dtype, shape):
 
 
 @needs_c
+def test_the_c_medians_refuse_rows_outside_the_image():
+    flat = np.zeros((4, 12), np.uint8)
+    for y0, y1 in ((0, 8), (-2, 2), (3, 1)):
+        with pytest.raises(ValueError, match="outside the image"):
+            _c().median_rows(flat, flat.copy(), 3, 3, y0, y1)
+
+
+@needs_c
 def test_the_c_medians_leave_other_sizes_and_dtypes_to_numba():
     flat = np.zeros((4, 12), np.uint8)
     assert not _c().median_rows(flat, flat.copy(), 9, 3, 0, 4)

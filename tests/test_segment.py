@@ -178,6 +178,13 @@ def test_kmeans_drops_empty_clusters():
     np.testing.assert_allclose(means, [[0, 0, 0], [100, 50, -50]])
 
 
+
+@pytest.mark.parametrize("weights", [np.zeros(6), -np.ones(6), np.array([1, 1, 1, 1, 1, np.nan]), np.ones(5)])
+def test_kmeans_refuses_weights_that_are_not_one_positive_count_per_point(weights):
+    """A zero or negative total weight left no cluster, and the kernels then indexed empty arrays (garbage labels)."""
+    with pytest.raises(ValueError, match="weights must be 6 finite values > 0"):
+        kmeans(np.arange(18, dtype=np.float32).reshape(6, 3), 3, 10, weights=weights)
+
 def test_kmeans_one_color_gives_one_cluster():
     x = np.full((10, 3), 7.0, np.float32)
     labels, means = kmeans(x, 4, 10)

@@ -278,3 +278,12 @@ def test_grow_samples_is_scipys_dilation_and_nearest_sample(rng):
         _jit.grow_samples(masks, corrected, ours_values, ours_grown)
         np.testing.assert_array_equal(ours_grown, grown)
         np.testing.assert_array_equal(ours_values, values)
+
+
+@pytest.mark.parametrize("bin_width", [0.0, -1.0, float("nan"), float("inf")])
+def test_correct_cluster_depths_refuses_a_bin_width_that_is_not_positive(bin_width):
+    """numba divided by zero where C gave a value: neither is asked any more."""
+    from depthrefine.methods.thesis.refine import correct_cluster_depths
+
+    with pytest.raises(ValueError, match="bin_width"):
+        correct_cluster_depths(np.array([1.0, 2.0, 50.0]), origin=0, level_size=1, n_bins=8, bin_width=bin_width)

@@ -25,7 +25,6 @@ def test_color_weights_alone_give_opencvs_fast_global_smoother(lam, sigma):
     assert np.abs(ours - src).max() > 1.0       # it did smooth
 
 
-
 def test_smooth_into_out_gives_the_same_bits_without_a_new_array():
     """``out=`` (flat_blend solves its start in a scratch array): the same bits as the copy, in place or elsewhere."""
     guide, src = _scene(3)
@@ -39,8 +38,9 @@ def test_smooth_into_out_gives_the_same_bits_without_a_new_array():
     np.testing.assert_array_equal(other, ref)
     with pytest.raises(ValueError, match="out must have"):
         _wls.smooth(src, wx, wy, 40.0, out=np.empty((3, 4), np.float32))
-    with pytest.raises(ValueError, match="C-contiguous"):
+    with pytest.raises(ValueError, match="out must be a writeable, C-contiguous"):
         _wls.smooth(src, wx, wy, 40.0, out=np.empty(src.shape[::-1], np.float32).T)
+
 
 def test_color_weights_match_the_definition():
     guide, _ = _scene(1, (7, 9))

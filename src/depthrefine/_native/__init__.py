@@ -16,13 +16,18 @@ itself. ``DEPTHREFINE_KERNELS=numba`` in the environment forces numba's.
 
 The wrappers below take the numba kernels' arguments, in their order. They
 check what would make C read or write out of bounds or round otherwise than
-numba (dtypes, C-contiguity, float32 scalars),
+numba in the arrays' layout (dtypes, C-contiguity, float32 scalars),
 not the shapes' agreement, which the modules that call them check
 (``methods/_wls.py``, ``methods/_resample.py``, ``methods/gbp/_offsets.py``,
 ``methods/gbp/fattening.py``, ``_geodesic.py``). The thesis method's
 (``methods/thesis/_jit.py``: every kernel but ``median_rows``, the table
 interpreter for window sizes without a generated kernel) check their shapes
-too, and hand dtypes the method never gives them to numba's kernel.
+too, and hand the dtypes the method never gives them to numba's kernel
+(``quantize_lab``, ``fill_missing``; the others refuse them). Neither checks
+the values of index arrays (feature codes, labels, nearest rows and
+columns), which their callers make in range: an index out of range that
+numba would wrap or read past reads or writes past the array in C. These
+are the package's internal kernels, not an API.
 """
 
 from __future__ import annotations
@@ -375,6 +380,8 @@ def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
         (nothing done) where kernels.c has no kernel for the size, channel count or dtype."""
         if flat.dtype not in (np.uint8, np.uint16) or oflat.shape != flat.shape:
             return False
+        if not 0 <= int(y0) <= int(y1) <= flat.shape[0]:
+            raise ValueError(f"rows {y0}..{y1} outside the image's {flat.shape[0]}")
         status = lib.dr_median(_ptr(flat, flat.dtype), _ptr(oflat, flat.dtype), flat.shape[0], flat.shape[1],
                                int(size), int(channels), flat.itemsize, int(y0), int(y1))
         _check(0 if status != -1 else -1)

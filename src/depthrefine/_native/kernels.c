@@ -540,6 +540,7 @@ EXPORT int dr_search(const uint8_t *band, const float *magnitude, const float *g
             float here = magnitude[i * cols + j];
             if (!band[i * cols + j] || here <= 0.0f) continue;
             float nx = gx[i * cols + j] / here, ny = gy[i * cols + j] / here;
+            if (!(isfinite(nx) && isfinite(ny))) continue;   /* no direction: a gradient that overflowed float32 */
 #if defined(__AVX2__)
             if (small_image) {
                 if (waiting < 0) {

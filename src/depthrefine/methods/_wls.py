@@ -171,11 +171,11 @@ def _weights(shape: tuple[int, int], wx: np.ndarray, wy: np.ndarray) -> tuple[np
     return out[0], out[1]
 
 
-def _check_in_place(x: np.ndarray, done: str) -> None:
+def _check_in_place(x: np.ndarray, done: str, name: str = "x") -> None:
     """A ``ValueError`` unless ``x`` is a writeable, C-contiguous 2-D float32 array (it is ``done`` in place)."""
     if not (isinstance(x, np.ndarray) and x.dtype == np.float32 and x.ndim == 2 and x.flags.c_contiguous
             and x.flags.writeable):
-        raise ValueError(f"x must be a writeable, C-contiguous 2-D float32 array (it is {done} in place).")
+        raise ValueError(f"{name} must be a writeable, C-contiguous 2-D float32 array (it is {done} in place).")
 
 
 def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, iterations: int = 3,
@@ -226,7 +226,7 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     if out is None:
         u = np.array(src, dtype=np.float32, order="C")
     else:
-        _check_in_place(out, "solved")
+        _check_in_place(out, "solved", "out")
         if np.shape(src) != out.shape:
             raise ValueError(f"out must have src's shape {np.shape(src)}; got {out.shape}.")
         u = out

@@ -44,6 +44,8 @@ def search(band, magnitude, gx, gy, edges, reach, peak_ratio, row_start, offsets
             if not band[i, j] or here <= 0.0:
                 continue
             nx, ny = gx[i, j] / here, gy[i, j] / here
+            if not (math.isfinite(nx) and math.isfinite(ny)):
+                continue                                   # no direction (a gradient that overflowed float32)
             if here < _bilinear(magnitude, j + nx, i + ny) or here < _bilinear(magnitude, j - nx, i - ny):
                 continue                                   # not on the ridge of the depth gradient
             total = 0.0

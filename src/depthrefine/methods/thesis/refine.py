@@ -14,6 +14,7 @@ are the manual patch rectangles, in color-image pixels.
 from __future__ import annotations
 
 import functools
+import math
 import threading
 import time
 import warnings
@@ -264,6 +265,9 @@ def correct_cluster_depths(
     values = np.ascontiguousarray(values, dtype=np.float64).ravel()
     out = np.empty_like(values)
     bin_width = level_size if bin_width is None else bin_width
+    if not (bin_width > 0 and math.isfinite(bin_width)) or int(n_bins) < 1:
+        raise ValueError(f"bin_width (or level_size) must be finite and > 0 and n_bins >= 1; got {bin_width!r}, "
+                         f"{n_bins!r}.")
     _kernels().correct_values(values, float(origin), float(level_size), float(bin_width), int(n_bins),
                               float(dominant_fraction), float(tolerance_levels * level_size), out)
     return out

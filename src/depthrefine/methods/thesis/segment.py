@@ -206,6 +206,9 @@ def kmeans(
     if not np.isfinite(x).all():
         raise ValueError("features must be finite (no NaN or inf).")
     w = np.ones(x.shape[0]) if weights is None else np.asarray(weights, dtype=np.float64)
+    if w.shape != (x.shape[0],) or not (np.isfinite(w).all() and (w > 0).all()):
+        raise ValueError(f"weights must be {x.shape[0]} finite values > 0, one per point; got shape {w.shape}"
+                         + ("" if w.shape != (x.shape[0],) else f", min {w.min()}") + ".")
     labels, means = _lloyd(x, w, initial_means(x, n_clusters), iterations)
     if init_means is not None:
         warm = np.asarray(init_means, dtype=np.float64)
