@@ -225,6 +225,14 @@ def test_the_c_medians_are_numbas_and_opencvs(size, channels, dtype, shape):
 
 
 @needs_c
+def test_the_c_kmeans_refuses_weights_that_keep_no_cluster():
+    """numba's kernel indexes empty arrays there (garbage labels); the C one says what is wrong."""
+    x = np.arange(18, dtype=np.float32).reshape(6, 3)
+    with pytest.raises(ValueError, match="kept no cluster"):
+        _c().lloyd(x, np.zeros(6), np.zeros((3, 3)), 10)
+
+
+@needs_c
 def test_the_c_medians_refuse_rows_outside_the_image():
     flat = np.zeros((4, 12), np.uint8)
     for y0, y1 in ((0, 8), (-2, 2), (3, 1)):

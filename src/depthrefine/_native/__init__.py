@@ -278,7 +278,7 @@ def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
 
     The method gives them the dtypes below; other dtypes that numba's would compile a kernel for (a float64
     L*a*b* patch in :func:`~depthrefine.methods.thesis.segment.cluster_colors`, an integer fallback map) go to
-    numba's kernel, as does a k-means round that keeps no cluster (no positive weight).
+    numba's kernel. A k-means round that keeps no cluster (no positive weight) raises ``ValueError``.
     """
     i64 = np.int64
 
@@ -321,8 +321,8 @@ def _thesis_wrappers(lib: ctypes.CDLL, np, _ptr, _f32) -> dict:
         labels, out = np.empty(n, np.int32), np.empty(means.shape, np.float64)
         kept = lib.dr_lloyd(_ptr(x), _ptr(w, np.float64), n, dims, _ptr(means, np.float64), means.shape[0],
                             int(iterations), _ptr(labels, np.int32), _ptr(out, np.float64))
-        if kept == -2:
-            return _thesis_jit("lloyd")(x, w, means, iterations)
+        if kept == -2:   # numba's kernel indexes empty arrays there: segment.kmeans refuses such weights first
+            raise ValueError("k-means kept no cluster: every weight must be > 0")
         _check(0 if kept >= 0 else -1)
         return labels, out[:kept]
 

@@ -781,7 +781,7 @@ static void thesis_assign(const float *restrict x, index_t n, index_t dims, cons
 
 /* lloyd: iterations rounds of k-means from means_in (k, dims); labels renumbered over the clusters used, their
  * means into means_out (capacity k rows). Returns the clusters kept, -1 when scratch memory is short, -2 when a
- * round keeps no cluster (no positive weight: the numba kernel's result is then left to it). */
+ * round keeps no cluster (no positive weight; segment.kmeans refuses such weights before). */
 EXPORT int64_t dr_lloyd(const float *restrict x, const double *restrict w, index_t n, index_t dims,
                         const double *restrict means_in, index_t k, int64_t iterations, int32_t *restrict labels,
                         double *restrict means_out)
