@@ -54,7 +54,7 @@ STEPS = {
                                          "clip_to_bounds"),
     "depthrefine.methods.gbp.trust": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
                                       "clamped_bicubic", "noise_levels", "reduce"),
-    "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce"),
+    "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce", "resize_to_scratch", "clip_to_bounds"),
     "depthrefine.methods.gbp.fast": ("measure_input", "thin_if_fattened", "make_solver", "local_bounds",
                                      "back_project", "flat_blend", "clamped_bicubic", "reduce", "blend_fallback",
                                      "measured_trust", "resize"),
@@ -224,10 +224,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.cpu:
         import cv2
 
-        from depthrefine import _numba
+        from depthrefine import _threads
 
         cv2.setNumThreads(1)
-        _numba.threads = lambda: 1   # the solver's kernels in the calling thread
+        _threads.set_threads(1)   # every compiled kernel in the calling thread
         clock = time.thread_time
     print(f"{args.method}: median of {args.repeats} calls, {'CPU' if args.cpu else 'wall'} time; load average "
           f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")

@@ -108,7 +108,7 @@ def test_the_column_blocks_are_numbas(shape):
 
 @needs_c
 @pytest.mark.parametrize("channels", [1, 3, 4])
-@pytest.mark.parametrize("shape", [(1, 9), (9, 1), (31, 47)])
+@pytest.mark.parametrize("shape", [(1, 9), (9, 1), (31, 47), (5, 300)])
 def test_the_weights_are_numbas(channels, shape):
     from depthrefine.methods._wls import _color_lut
 
@@ -136,8 +136,10 @@ def test_the_weights_are_numbas(channels, shape):
 
 @needs_c
 @pytest.mark.parametrize("sigma", [12.0, 0.3])       # 0.3: most colors' likeness underflows, the bilinear fallback
-@pytest.mark.parametrize("shape", [(1, 1), (1, 2), (2, 1), (2, 2), (3, 5), (8, 8), (33, 50), (50, 33)])
-def test_the_guided_enlargement_is_numbas(shape, sigma):
+@pytest.mark.parametrize("shape", [(1, 1), (1, 2), (2, 1), (2, 2), (3, 5), (8, 8), (33, 50), (50, 33), (16, 16),
+                                   (17, 301), (64, 130)])
+@pytest.mark.parametrize("colors", ["random", "smooth"])     # smooth: the small guide the guide's reduction
+def test_the_guided_enlargement_is_numbas(shape, sigma, colors):
     import cv2
 
     from depthrefine.methods._wls import _color_lut
@@ -145,8 +147,12 @@ def test_the_guided_enlargement_is_numbas(shape, sigma):
     H, W = shape
     h, w = -(-H // 2), -(-W // 2)
     rng = np.random.default_rng(H * W)
-    guide = rng.integers(0, 256, (H, W, 3), dtype=np.uint8)
-    small = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+    if colors == "random":
+        guide = rng.integers(0, 256, (H, W, 3), dtype=np.uint8)
+        small = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+    else:
+        guide = cv2.resize(rng.integers(0, 256, (max(1, H // 6), max(1, W // 6), 3), dtype=np.uint8), (W, H))
+        small = cv2.resize(guide, (w, h), interpolation=cv2.INTER_AREA)
     x = rng.normal(0, 100, (h, w)).astype(np.float32)
     planes = cv2.split(small)
     jit, c = _both("enlarge_rows", "depthrefine.methods._resample_jit",

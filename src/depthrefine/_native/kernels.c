@@ -202,6 +202,45 @@ static inline int32_t color_distance2(const uint8_t *a, const uint8_t *b, index_
     return total;
 }
 
+#if defined(__AVX2__)
+/* Channel ch of eight RGB pixels (24 bytes at p) as eight int32 lanes; g0 and g1 are the 16 bytes at p and at p + 8
+ * (pixels 0-3 are bytes 3 k + ch of g0, pixels 4-7 bytes 4 + 3 k + ch of g1). */
+static inline __m256i rgb8_channel(__m128i g0, __m128i g1, int ch)
+{
+    const char c = (char)ch;
+    __m128i low = _mm_shuffle_epi8(g0, _mm_setr_epi8(c, c + 3, c + 6, c + 9, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1,
+                                                     -1, -1));
+    __m128i high = _mm_shuffle_epi8(g1, _mm_setr_epi8(-1, -1, -1, -1, c + 4, c + 7, c + 10, c + 13, -1, -1, -1, -1,
+                                                      -1, -1, -1, -1));
+    return _mm256_cvtepu8_epi32(_mm_or_si128(low, high));
+}
+
+/* lut[(int32_t)d] of eight floats d (whole numbers within the table). */
+static inline __m256 lut8(const float *lut, __m256 d) { return _mm256_i32gather_ps(lut, _mm256_cvttps_epi32(d), 4); }
+#endif
+
+/* out[j] = lut[|a_j - b_j|^2] for the n pixels a_j = a + 3 j, b_j = b + 3 j of 3 channels (reads a[0 .. 3 n) and
+ * b[0 .. 3 n) only). The squared distance is an exact integer, so any order of its sums gives its value. */
+static void color_weight_run3(float *restrict out, const uint8_t *a, const uint8_t *b, const float *lut, index_t n)
+{
+    index_t j = 0;
+#if defined(__AVX2__)
+    for (; j + 8 <= n; j += 8) {
+        const __m128i a0 = _mm_loadu_si128((const __m128i *)(a + 3 * j));
+        const __m128i a1 = _mm_loadu_si128((const __m128i *)(a + 3 * j + 8));
+        const __m128i b0 = _mm_loadu_si128((const __m128i *)(b + 3 * j));
+        const __m128i b1 = _mm_loadu_si128((const __m128i *)(b + 3 * j + 8));
+        __m256i total = _mm256_setzero_si256();
+        for (int c = 0; c < 3; c++) {
+            __m256i d = _mm256_sub_epi32(rgb8_channel(a0, a1, c), rgb8_channel(b0, b1, c));
+            total = _mm256_add_epi32(total, _mm256_mullo_epi32(d, d));
+        }
+        _mm256_storeu_ps(out + j, _mm256_i32gather_ps(lut, total, 4));
+    }
+#endif
+    for (; j < n; j++) out[j] = lut[color_distance2(a + 3 * j, b + 3 * j, 3)];
+}
+
 /* lut[|dc|^2] between horizontal (wx) and vertical (wy) neighbours of a rows x cols x channels uint8 guide,
  * rows i0:i1. */
 EXPORT void dr_color_weight_rows(const uint8_t *guide, index_t rows, index_t cols, index_t channels,
@@ -212,7 +251,7 @@ EXPORT void dr_color_weight_rows(const uint8_t *guide, index_t rows, index_t col
         const uint8_t *restrict row = guide + i * cols * channels;
         float *restrict out = wx + i * cols;
         if (channels == 3) {
-            for (index_t j = 0; j < cols - 1; j++) out[j] = lut[color_distance2(row + 3 * (j + 1), row + 3 * j, 3)];
+            color_weight_run3(out, row + 3, row, lut, cols - 1);
         } else {
             for (index_t j = 0; j < cols - 1; j++)
                 out[j] = lut[color_distance2(row + channels * (j + 1), row + channels * j, channels)];
@@ -222,7 +261,7 @@ EXPORT void dr_color_weight_rows(const uint8_t *guide, index_t rows, index_t col
         if (i + 1 < rows) {
             const uint8_t *restrict below = row + cols * channels;
             if (channels == 3) {
-                for (index_t j = 0; j < cols; j++) out_y[j] = lut[color_distance2(below + 3 * j, row + 3 * j, 3)];
+                color_weight_run3(out_y, below, row, lut, cols);
             } else {
                 for (index_t j = 0; j < cols; j++)
                     out_y[j] = lut[color_distance2(below + channels * j, row + channels * j, channels)];
@@ -283,6 +322,25 @@ static inline float similar(const float *lut, const uint8_t *a0, const uint8_t *
     return lut[(int32_t)(d0 * d0 + d1 * d1 + d2 * d2)];
 }
 
+/* Output pixel c of one row of dr_enlarge_rows: n0..n2 and x_near the near small row's color planes and values,
+ * f0..f2 and x_far the far one's, row the guide's row (W pixels of 3 channels). */
+static inline void enlarge_pixel(float *restrict out_row, index_t c, index_t w, const uint8_t *restrict row,
+                                 const uint8_t *restrict n0, const uint8_t *restrict n1, const uint8_t *restrict n2,
+                                 const uint8_t *restrict f0, const uint8_t *restrict f1, const uint8_t *restrict f2,
+                                 const float *restrict x_near, const float *restrict x_far, const float *restrict lut)
+{
+    const float tiny = 1e-30f;
+    index_t k = c >> 1;
+    index_t kk = (c % 2 == 0) ? max_i(k - 1, 0) : min_i(k + 1, w - 1);
+    uint8_t b0 = row[3 * c], b1 = row[3 * c + 1], b2 = row[3 * c + 2];
+    float w_nn = 9.0f * (similar(lut, n0, n1, n2, k, b0, b1, b2) + tiny);
+    float w_nf = 3.0f * (similar(lut, n0, n1, n2, kk, b0, b1, b2) + tiny);
+    float w_fn = 3.0f * (similar(lut, f0, f1, f2, k, b0, b1, b2) + tiny);
+    float w_ff = similar(lut, f0, f1, f2, kk, b0, b1, b2) + tiny;
+    out_row[c] = (w_nn * x_near[k] + w_nf * x_near[kk] + w_fn * x_far[k] + w_ff * x_far[kk])
+                 / (w_nn + w_nf + w_fn + w_ff);
+}
+
 /* One output row of dr_enlarge_rows: n near small rows' planes n0..n2 and values x_near, the far ones f0..f2,
  * x_far, the guide's row (W pixels of 3 channels). */
 static void enlarge_row(float *restrict out_row, index_t W, index_t w, const uint8_t *restrict row,
@@ -290,18 +348,60 @@ static void enlarge_row(float *restrict out_row, index_t W, index_t w, const uin
                         const uint8_t *restrict f0, const uint8_t *restrict f1, const uint8_t *restrict f2,
                         const float *restrict x_near, const float *restrict x_far, const float *restrict lut)
 {
-    const float tiny = 1e-30f;
-    for (index_t c = 0; c < W; c++) {
-        index_t k = c >> 1;
-        index_t kk = (c % 2 == 0) ? max_i(k - 1, 0) : min_i(k + 1, w - 1);
-        uint8_t b0 = row[3 * c], b1 = row[3 * c + 1], b2 = row[3 * c + 2];
-        float w_nn = 9.0f * (similar(lut, n0, n1, n2, k, b0, b1, b2) + tiny);
-        float w_nf = 3.0f * (similar(lut, n0, n1, n2, kk, b0, b1, b2) + tiny);
-        float w_fn = 3.0f * (similar(lut, f0, f1, f2, k, b0, b1, b2) + tiny);
-        float w_ff = similar(lut, f0, f1, f2, kk, b0, b1, b2) + tiny;
-        out_row[c] = (w_nn * x_near[k] + w_nf * x_near[kk] + w_fn * x_far[k] + w_ff * x_far[kk])
-                     / (w_nn + w_nf + w_fn + w_ff);
+    index_t c = 0;
+#if defined(__AVX2__)
+    /* eight output pixels c0 .. c0 + 7 (c0 even) at a time, away from the borders (no clamp of kk): their near small
+     * pixels are k = c0 / 2 + 0, 0, 1, 1, .., 3, 3 and their far ones k - 1 (even c) or k + 1 (odd c), all within
+     * the eight small pixels from c0 / 2 - 1 on. Each lane does the loop's operations in its order and types. */
+    if (W >= 16) {
+        for (; c < 8; c++)          /* the first eight: k - 1 clamped at 0 */
+            enlarge_pixel(out_row, c, w, row, n0, n1, n2, f0, f1, f2, x_near, x_far, lut);
+        const __m256i near_at = _mm256_setr_epi32(1, 1, 2, 2, 3, 3, 4, 4);
+        const __m256i far_at = _mm256_setr_epi32(0, 2, 1, 3, 2, 4, 3, 5);
+        const __m128i near_bytes = _mm_setr_epi8(1, 1, 2, 2, 3, 3, 4, 4, -1, -1, -1, -1, -1, -1, -1, -1);
+        const __m128i far_bytes = _mm_setr_epi8(0, 2, 1, 3, 2, 4, 3, 5, -1, -1, -1, -1, -1, -1, -1, -1);
+        const __m256 v_tiny = _mm256_set1_ps(1e-30f), nine = _mm256_set1_ps(9.0f), three = _mm256_set1_ps(3.0f);
+        const uint8_t *near_planes[3] = {n0, n1, n2}, *far_planes[3] = {f0, f1, f2};
+        for (; c + 8 <= W && c / 2 + 7 <= w; c += 8) {
+            const index_t base = c / 2 - 1;
+            const __m128i g0 = _mm_loadu_si128((const __m128i *)(row + 3 * c));
+            const __m128i g1 = _mm_loadu_si128((const __m128i *)(row + 3 * c + 8));
+            __m256 d_nn = _mm256_setzero_ps(), d_nf = d_nn, d_fn = d_nn, d_ff = d_nn;
+            for (int ch = 0; ch < 3; ch++) {
+                __m256 b = _mm256_cvtepi32_ps(rgb8_channel(g0, g1, ch));
+                __m128i pn = _mm_loadl_epi64((const __m128i *)(near_planes[ch] + base));
+                __m128i pf = _mm_loadl_epi64((const __m128i *)(far_planes[ch] + base));
+                __m256 a_nn = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(pn, near_bytes)));
+                __m256 a_nf = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(pn, far_bytes)));
+                __m256 a_fn = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(pf, near_bytes)));
+                __m256 a_ff = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(pf, far_bytes)));
+                __m256 e_nn = _mm256_sub_ps(a_nn, b), e_nf = _mm256_sub_ps(a_nf, b);
+                __m256 e_fn = _mm256_sub_ps(a_fn, b), e_ff = _mm256_sub_ps(a_ff, b);
+                if (ch == 0) {
+                    d_nn = _mm256_mul_ps(e_nn, e_nn), d_nf = _mm256_mul_ps(e_nf, e_nf);
+                    d_fn = _mm256_mul_ps(e_fn, e_fn), d_ff = _mm256_mul_ps(e_ff, e_ff);
+                } else {
+                    d_nn = _mm256_add_ps(d_nn, _mm256_mul_ps(e_nn, e_nn));
+                    d_nf = _mm256_add_ps(d_nf, _mm256_mul_ps(e_nf, e_nf));
+                    d_fn = _mm256_add_ps(d_fn, _mm256_mul_ps(e_fn, e_fn));
+                    d_ff = _mm256_add_ps(d_ff, _mm256_mul_ps(e_ff, e_ff));
+                }
+            }
+            __m256 w_nn = _mm256_mul_ps(nine, _mm256_add_ps(lut8(lut, d_nn), v_tiny));
+            __m256 w_nf = _mm256_mul_ps(three, _mm256_add_ps(lut8(lut, d_nf), v_tiny));
+            __m256 w_fn = _mm256_mul_ps(three, _mm256_add_ps(lut8(lut, d_fn), v_tiny));
+            __m256 w_ff = _mm256_add_ps(lut8(lut, d_ff), v_tiny);
+            __m256 xn = _mm256_loadu_ps(x_near + base), xf = _mm256_loadu_ps(x_far + base);
+            __m256 sum = _mm256_mul_ps(w_nn, _mm256_permutevar8x32_ps(xn, near_at));
+            sum = _mm256_add_ps(sum, _mm256_mul_ps(w_nf, _mm256_permutevar8x32_ps(xn, far_at)));
+            sum = _mm256_add_ps(sum, _mm256_mul_ps(w_fn, _mm256_permutevar8x32_ps(xf, near_at)));
+            sum = _mm256_add_ps(sum, _mm256_mul_ps(w_ff, _mm256_permutevar8x32_ps(xf, far_at)));
+            __m256 weight = _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(w_nn, w_nf), w_fn), w_ff);
+            _mm256_storeu_ps(out_row + c, _mm256_div_ps(sum, weight));
+        }
     }
+#endif
+    for (; c < W; c++) enlarge_pixel(out_row, c, w, row, n0, n1, n2, f0, f1, f2, x_near, x_far, lut);
 }
 
 /* Rows i0:i1 of the guided x2 enlargement out (H x W) of x (h x w): s0, s1, s2 the small guide's color planes
