@@ -200,6 +200,13 @@ def _no_valid(ws: Workspace, name: str, data: np.ndarray, *extra: str) -> Case:
                 lib=lambda: depthrefine.refine(arr, rgb, method="thesis"), lib_subject=("depth_lr", f"depth file {path}"))
 
 
+def _too_deep(ws: Workspace, name: str, data: np.ndarray) -> Case:
+    path = ws.file(name, data)
+    rgb = _color_u8()
+    return Case(ws.refine(path, None), [str(path), "holds depth values up to", "in a larger unit"],
+                lib=lambda: depthrefine.refine(data, rgb, method="thesis"), lib_subject=("depth_lr", f"depth file {path}"))
+
+
 def _params_case(ws: Workspace, text: str, expect: list[str], *, name="params.toml", mapping=None) -> Case:
     path = ws.file(name, text)
 
@@ -283,6 +290,10 @@ CASES: dict[str, Callable[[Workspace], Case]] = {
     "depth all negative": lambda ws: _no_valid(ws, "neg.npy", np.full(DEPTH_SHAPE, -2.0, np.float32)),
     "depth all saturated (--saturated-invalid)": lambda ws: _no_valid(
         ws, "sat.png", np.full(DEPTH_SHAPE, 65535, np.uint16), "--saturated-invalid"),
+    # --- depth beyond what float32's squares hold (it overflowed inside the methods; float64 beyond float32's range
+    # became "no measurement")
+    "depth of 1e20": lambda ws: _too_deep(ws, "e20.npy", np.where(_depth_u8() > 100, 1e20, 5.0).astype(np.float32)),
+    "depth beyond float32": lambda ws: _too_deep(ws, "e300.npy", np.where(_depth_u8() > 100, 1e300, 5.0)),
     # --- depth and color that do not belong together
     "aspect ratio mismatch": lambda ws: _shape_case(ws, _depth_u8(), RGB[:, :60].copy(),
                                                     ["depth (20x16)", "color (60x64)", "crop them"]),

@@ -26,6 +26,9 @@ __all__ = [
     "check_number",
     "valid_range",
     "no_valid_pixel_message",
+    "too_deep_message",
+    "largest_beyond_limit",
+    "MAX_DEPTH",
     "available_memory",
     "check_pixels",
     "pixel_limit",
@@ -42,6 +45,11 @@ PEAK_BYTES_PER_PIXEL = 200
 _MAX_PIXELS: contextvars.ContextVar[int | None] = contextvars.ContextVar("depthrefine_max_pixels", default=None)
 
 _DEPTH_DTYPES = (np.uint8, np.uint16, np.int16, np.int32, np.float32, np.float64)
+
+#: The largest depth value the library takes, in any unit. The methods square depth differences and sum squares in
+#: float32, which overflows from about 1e18 on (every method failed on a map reaching 2.5e20, all ran alike up to
+#: 2.5e18); no camera's depth comes near this in any sensible unit (1e15 mm is a thousand times the Moon's distance).
+MAX_DEPTH = 1e15
 
 
 def check_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
@@ -69,9 +77,13 @@ def as_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
     """Return a new float32 copy of ``depth`` with every invalid pixel as NaN.
 
     Invalid: 0 (no measurement, any dtype), NaN, +-inf and negative values.
-    The input is never modified. Raises ``ValueError`` if no pixel is valid.
+    The input is never modified. Raises ``ValueError`` if no pixel is valid,
+    or if a value exceeds :data:`MAX_DEPTH`.
     """
     depth = check_depth(depth, name)
+    largest = largest_beyond_limit(depth)
+    if largest is not None:
+        raise ValueError(too_deep_message(name, largest))
     out = depth.astype(np.float32, copy=True)
     with np.errstate(invalid="ignore"):
         out[~(np.isfinite(out) & (out > 0))] = np.nan
@@ -85,6 +97,28 @@ def no_valid_pixel_message(name: str) -> str:
     return (
         f"{name} has no valid pixel (all are 0, NaN, inf or negative); "
         "there is no depth to refine. Check the depth file or its units."
+    )
+
+
+def largest_beyond_limit(depth: np.ndarray) -> float | None:
+    """The largest finite value of a depth map when it exceeds :data:`MAX_DEPTH`, else None.
+
+    Examples
+    --------
+    >>> largest_beyond_limit(np.array([[1.0, np.inf, 3e17]])), largest_beyond_limit(np.array([[1.0, np.inf]]))
+    (3e+17, None)
+    """
+    if depth.dtype.kind != "f":      # integer depth tops out at int32's 2.1e9
+        return None
+    largest = np.max(depth, where=np.isfinite(depth), initial=-np.inf)
+    return float(largest) if largest > MAX_DEPTH else None
+
+
+def too_deep_message(name: str, largest: float) -> str:
+    """The message for a depth map with values beyond :data:`MAX_DEPTH` (shared with :mod:`depthrefine.io`)."""
+    return (
+        f"{name} holds depth values up to {largest:.3g}; depthrefine takes depth up to {MAX_DEPTH:.0e} (in any "
+        "unit). Give it in a larger unit, e.g. metres instead of millimetres."
     )
 
 

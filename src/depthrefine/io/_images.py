@@ -39,7 +39,7 @@ from typing import Iterator
 import numpy as np
 
 from .._lazy import cv2, tifffile
-from .._validate import check_pixels, check_rgb, no_valid_pixel_message
+from .._validate import check_pixels, check_rgb, largest_beyond_limit, no_valid_pixel_message, too_deep_message
 from ._files import InputFileError, atomic_write, check_output, existing_input
 
 __all__ = [
@@ -242,7 +242,8 @@ def read_depth(
     ------
     InputFileError (a ValueError)
         Missing, unreadable, too large or non-depth file (e.g. a color
-        image), or a depth map without any valid pixel.
+        image), a depth map without any valid pixel, or one with values
+        beyond ``MAX_DEPTH`` (1e15, any unit).
     """
     p = existing_input(path, "depth")
     _check_size(p, "depth", max_pixels)
@@ -272,6 +273,9 @@ def read_depth(
     with np.errstate(invalid="ignore"):
         if not (np.isfinite(arr) & (arr > 0)).any():
             raise InputFileError(no_valid_pixel_message(f"depth file {p}"))
+    largest = largest_beyond_limit(arr)
+    if largest is not None:
+        raise InputFileError(too_deep_message(f"depth file {p}", largest))
     return np.ascontiguousarray(arr)
 
 
