@@ -11,13 +11,17 @@ round's depth weights and smooth), so each round shows on its own line.
 
 Usage::
 
-    python benchmarks/profile_gbp.py [--method gbp] [--repeats 5] [--inputs thesis,art4] [--cpu | --memory]
+    python benchmarks/profile_gbp.py [--method gbp] [--repeats 5] [--inputs thesis,art4] [--cpu | --memory | --faults]
 
 ``--memory`` says instead, per step, the peak of the memory the call holds
 (``tracemalloc``: NumPy's and OpenCV's arrays), in multiples of the output
 depth map's bytes, between the end of the step before and the end of this one; after a
 small first call (``bench_speed.warm_up``), so the arrays the call makes for this input (the
 solver's scratch arrays among them) count, as in ``bench_speed.py``'s peak memory.
+
+``--faults`` counts, per step, the process's minor page faults instead of
+the time (``getrusage``): each first touch of a page the allocator took from
+the system, a few microseconds apiece on a virtual machine.
 
 ``--cpu`` runs everything in one thread (OpenCV and the solver's threads
 off) and times the CPU seconds of that thread (``time.thread_time``): on a
@@ -54,7 +58,8 @@ STEPS = {
                                          "clip_to_bounds"),
     "depthrefine.methods.gbp.trust": ("measure_input", "make_solver", "local_bounds", "back_project", "flat_blend",
                                       "clamped_bicubic", "noise_levels", "reduce"),
-    "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce", "resize_to_scratch", "clip_to_bounds"),
+    "depthrefine.methods.gbp.solve": ("clamped_bicubic", "local_bounds", "reduce", "resize_to_scratch",
+                                      "clip_to_bounds"),
     "depthrefine.methods.gbp.fast": ("measure_input", "thin_if_fattened", "make_solver", "local_bounds",
                                      "back_project", "flat_blend", "clamped_bicubic", "reduce", "blend_fallback",
                                      "measured_trust", "resize"),
@@ -67,8 +72,15 @@ STEPS = {
 PER_CALL = {"depth_weights", "edge_weights", "smooth", "guided_smooth", "smooth_with_gradient"}
 
 
-#: The clock of the timers: wall time, or with ``--cpu`` the calling thread's CPU time.
+#: The clock of the timers: wall time, or with ``--cpu`` the calling thread's CPU time (``--faults``: :func:`faults`).
 clock = time.perf_counter
+
+
+def faults() -> float:
+    """The process's minor page faults so far (all threads)."""
+    import resource
+
+    return float(resource.getrusage(resource.RUSAGE_SELF).ru_minflt)
 
 
 class StepRecorder:
@@ -189,15 +201,17 @@ def profile(depth, rgb, method: str, repeats: int) -> tuple[dict[tuple[str, ...]
     return {path: statistics.median(v) for path, v in per_path.items()}, statistics.median(total)
 
 
-def format_profile(steps: dict[tuple[str, ...], float], total: float) -> list[str]:
-    """Indented lines ``step  ms  % of the call``, in call order, and the call's time outside its top steps."""
+def format_profile(steps: dict[tuple[str, ...], float], total: float, unit: str = "ms") -> list[str]:
+    """Indented lines ``step  ms  % of the call``, in call order, and the call's time outside its top steps
+    (``unit="faults"``: counts, as :func:`profile` gives them with :func:`faults` as its clock)."""
+    factor = 1e3 if unit == "ms" else 1.0
     lines = []
     for path, seconds in steps.items():
-        lines.append(f"  {'  ' * (len(path) - 1)}{path[-1]:{40 - 2 * len(path)}s} {seconds * 1e3:8.1f} ms "
+        lines.append(f"  {'  ' * (len(path) - 1)}{path[-1]:{40 - 2 * len(path)}s} {seconds * factor:8.1f} {unit} "
                      f"{100 * seconds / total:5.1f} %")
     rest = total - sum(s for p, s in steps.items() if len(p) == 1)
-    lines.append(f"  {'rest':38s} {rest * 1e3:8.1f} ms {100 * rest / total:5.1f} %")
-    lines.append(f"  {'call':38s} {total * 1e3:8.1f} ms")
+    lines.append(f"  {'rest':38s} {rest * factor:8.1f} {unit} {100 * rest / total:5.1f} %")
+    lines.append(f"  {'call':38s} {total * factor:8.1f} {unit}")
     return lines
 
 
@@ -210,6 +224,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--inputs", default="thesis,art4", help=f"comma-separated, of {sorted(SHORT)}")
     ap.add_argument("--cpu", action="store_true", help="one thread; CPU seconds of that thread")
     ap.add_argument("--memory", action="store_true", help="the peak memory per step instead of the time")
+    ap.add_argument("--faults", action="store_true", help="minor page faults per step instead of the time")
     args = ap.parse_args(argv)
     if args.memory:
         for short in args.inputs.split(","):
@@ -229,14 +244,17 @@ def main(argv: list[str] | None = None) -> int:
         cv2.setNumThreads(1)
         _threads.set_threads(1)   # every compiled kernel in the calling thread
         clock = time.thread_time
-    print(f"{args.method}: median of {args.repeats} calls, {'CPU' if args.cpu else 'wall'} time; load average "
+    if args.faults:
+        clock = faults
+    what = "minor page faults" if args.faults else f"{'CPU' if args.cpu else 'wall'} time"
+    print(f"{args.method}: median of {args.repeats} calls, {what}; load average "
           f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
     for short in args.inputs.split(","):
         name = SHORT[short]
         depth, rgb = INPUTS[name]()
         steps, total = profile(depth, rgb, args.method, args.repeats)
         print(name)
-        print("\n".join(format_profile(steps, total)))
+        print("\n".join(format_profile(steps, total, "faults" if args.faults else "ms")))
     return 0
 
 
