@@ -205,6 +205,7 @@ def format_profile(steps: dict[tuple[str, ...], float], total: float, unit: str 
     """Indented lines ``step  ms  % of the call``, in call order, and the call's time outside its top steps
     (``unit="faults"``: counts, as :func:`profile` gives them with :func:`faults` as its clock)."""
     factor = 1e3 if unit == "ms" else 1.0
+    total = total or 1e-30     # a call without a single page fault
     lines = []
     for path, seconds in steps.items():
         lines.append(f"  {'  ' * (len(path) - 1)}{path[-1]:{40 - 2 * len(path)}s} {seconds * factor:8.1f} {unit} "

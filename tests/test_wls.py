@@ -42,6 +42,22 @@ def test_smooth_into_out_gives_the_same_bits_without_a_new_array():
         _wls.smooth(src, wx, wy, 40.0, out=np.empty(src.shape[::-1], np.float32).T)
 
 
+def test_guided_smooth_into_out_gives_the_same_bits_without_a_new_array():
+    """``out=`` (gbp-fast solves its enlarged result in place): the same bits as the copy, in place or elsewhere."""
+    guide, src = _scene(4)
+    ref = _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, iterations=2)
+    same = src.copy()
+    assert _wls.guided_smooth(same, guide, 6.0, 3.0, 40.0, iterations=2, out=same) is same
+    other = np.empty_like(src)
+    assert _wls.guided_smooth(src.astype(np.float64), guide, 6.0, 3.0, 40.0, iterations=2, out=other) is other
+    np.testing.assert_array_equal(same, ref)
+    np.testing.assert_array_equal(other, ref)
+    with pytest.raises(ValueError, match="out must have"):
+        _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, out=np.empty((3, 4), np.float32))
+    with pytest.raises(ValueError, match="out must be a writeable, C-contiguous"):
+        _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, out=src.astype(np.float64))
+
+
 def test_color_weights_match_the_definition():
     guide, _ = _scene(1, (7, 9))
     wx, wy = _wls.color_weights(guide, 5.0)

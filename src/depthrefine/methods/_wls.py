@@ -223,15 +223,7 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     >>> bool(out[:, :3].max() < 1 and out[:, 3:].min() > 10)
     True
     """
-    if out is None:
-        u = np.array(src, dtype=np.float32, order="C")
-    else:
-        _check_in_place(out, "solved", "out")
-        if np.shape(src) != out.shape:
-            raise ValueError(f"out must have src's shape {np.shape(src)}; got {out.shape}.")
-        u = out
-        if src is not out:
-            np.copyto(u, src, casting="same_kind")
+    u = _target(src, out)
     if u.ndim != 2:
         raise ValueError(f"src must be a 2-D array; got shape {u.shape}.")
     wx, wy = _weights(u.shape, wx, wy)
@@ -247,6 +239,18 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     if not (np.isfinite(u.min()) and np.isfinite(u.max())):   # NaN propagates into min and max; no bool array
         raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
     return _solve(u, wx, wy, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
+
+
+def _target(src: np.ndarray, out: np.ndarray | None) -> np.ndarray:
+    """The float32 array a solve of ``src`` works in: a C-contiguous copy, or ``out`` holding ``src``'s values."""
+    if out is None:
+        return np.array(src, dtype=np.float32, order="C")
+    _check_in_place(out, "solved", "out")
+    if np.shape(src) != out.shape:
+        raise ValueError(f"out must have src's shape {np.shape(src)}; got {out.shape}.")
+    if src is not out:
+        np.copyto(out, src, casting="same_kind")
+    return out
 
 
 #: Per thread: scratch arrays of the last shapes solved (:func:`_scratch`).
@@ -289,14 +293,15 @@ def scratch(shape: tuple[int, int], count: int = 2) -> list[np.ndarray]:
 
 
 def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma: float, lam: float, *,
-                  iterations: int = 1, attenuation: float = 0.25) -> np.ndarray:
+                  iterations: int = 1, attenuation: float = 0.25, out: np.ndarray | None = None) -> np.ndarray:
     """:func:`smooth` of ``src`` with the weights :func:`edge_weights` of ``guide`` and ``src`` itself, fused.
 
     The same result as ``smooth(src, *edge_weights(guide, sigma_color, src,
     sigma), lam, ...)``, bit for bit, without handing out the weights: they
     are made in this thread's scratch arrays, so a call on the shape of the
-    previous one allocates only its result. ``src`` must be finite (it is
-    converted to float32).
+    previous one allocates only its result (nothing with ``out``, where it is
+    solved, as :func:`smooth`'s; ``src`` itself to solve in place). ``src``
+    must be finite (it is converted to float32).
 
     Examples
     --------
@@ -307,7 +312,7 @@ def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma:
     True
     """
     guide = _guide(guide)
-    u = np.array(src, dtype=np.float32, order="C")
+    u = _target(src, out)
     if u.shape != guide.shape[:2]:
         raise ValueError(f"src must have the guide's shape {guide.shape[:2]}; got {u.shape}.")
     lut = _color_lut(guide.shape[2], check_number("sigma_color", sigma_color, positive=True))

@@ -210,10 +210,10 @@ def upsample_gbp_fast(depth_lr: np.ndarray, rgb_hr: np.ndarray, *, params: GbpFa
         sigma_color = max(p.sigma_color, GUIDE_NOISE * m.guide_noise)
         lam = FINAL_LAMBDA * p.lambda_lr * s * s   # not raised on a reprojected input: it smeared real rims
         if p.gradient_levels > 0:
-            x = _wls.guided_smooth(x, guide, sigma_color, p.gradient_levels * m.span / 255.0 / s, lam,
-                                   iterations=FINAL_ITERATIONS)
+            _wls.guided_smooth(x, guide, sigma_color, p.gradient_levels * m.span / 255.0 / s, lam,
+                               iterations=FINAL_ITERATIONS, out=x)   # in place: no second output-sized array
         else:
-            x = _wls.smooth(x, *_wls.color_weights(guide, sigma_color), lam, iterations=FINAL_ITERATIONS)
+            _wls.smooth(x, *_wls.color_weights(guide, sigma_color), lam, iterations=FINAL_ITERATIONS, out=x)
         restore_smooth_surfaces(x, m)
         np.clip(x, m.low, m.high, out=x)
     if p.trust:                                                                      # 3, with trust
