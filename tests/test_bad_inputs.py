@@ -657,6 +657,33 @@ def test_invalid_float_values_are_holes():
     np.testing.assert_array_equal(thesis[:, 40:], 180)
 
 
+def test_masked_and_matrix_depth_are_their_values():
+    """A masked array or a matrix is taken as its plain values (as before the depth bound): refined as the array."""
+    depth, rgb = _two_region_scene()
+    d = depth.astype(np.float32)
+    plain = depthrefine.refine(d, rgb)
+    np.testing.assert_array_equal(depthrefine.refine(np.ma.masked_array(d, mask=d > 100), rgb), plain)
+    with pytest.warns(PendingDeprecationWarning):
+        matrix = np.matrix(d)
+    np.testing.assert_array_equal(depthrefine.refine(matrix, rgb), plain)
+
+
+def test_depth_beyond_the_limit_is_refused_by_every_reader(tmp_path):
+    """check_depth refuses depth beyond MAX_DEPTH for every caller (the rig chain's helpers too, where float64
+    beyond float32 silently became unmeasured), and read_depth for 64-bit integers, naming the file."""
+    from depthrefine.rig import chain
+
+    huge = np.full((4, 6), 5.0)
+    huge[1, 2] = 1e300
+    with pytest.raises(ValueError, match=r"depth_lr holds depth values up to 1e\+300"):
+        chain.unmeasured_on_grid(huge, (8, 12))
+    assert _validate.largest_beyond_limit(np.full((2, 2), 1e15)) is None          # the limit itself is taken
+    path = tmp_path / "i64.npy"
+    np.save(path, np.full((4, 6), 2 * 10**18, np.int64))
+    with pytest.raises(ValueError, match=f"depth file {path} holds depth values up to 2e\\+18"):
+        read_depth(path)
+
+
 def test_saturated_code_valid_by_default_invalid_on_request(tmp_path):
     """uint16 65535 is a depth unless --saturated-invalid; then it is a hole filled from its cluster."""
     depth = (_depth_u8().astype(np.uint16) * 100)  # 6000 and 18000

@@ -137,7 +137,7 @@ def test_the_weights_are_numbas(channels, shape):
 @needs_c
 @pytest.mark.parametrize("sigma", [12.0, 0.3])       # 0.3: most colors' likeness underflows, the bilinear fallback
 @pytest.mark.parametrize("shape", [(1, 1), (1, 2), (2, 1), (2, 2), (3, 5), (8, 8), (33, 50), (50, 33), (16, 16),
-                                   (17, 301), (64, 130)])
+                                   (3, 21), (4, 22), (17, 301), (64, 130)])   # 21, 22: the first vector step
 @pytest.mark.parametrize("colors", ["random", "smooth"])     # smooth: the small guide the guide's reduction
 def test_the_guided_enlargement_is_numbas(shape, sigma, colors):
     import cv2
@@ -158,6 +158,67 @@ def test_the_guided_enlargement_is_numbas(shape, sigma, colors):
     jit, c = _both("enlarge_rows", "depthrefine.methods._resample_jit",
                    lambda: (x, *planes, guide, _color_lut(3, sigma), np.full((H, W), np.nan, np.float32)), (0, H))
     assert _same(jit[6], c[6])
+
+
+_GUARDED = r"""
+import ctypes, mmap, sys
+import numpy as np
+from depthrefine import _native
+from depthrefine.methods._wls import _color_lut
+
+libc = ctypes.CDLL(None)
+libc.mmap.restype = ctypes.c_void_p
+libc.mmap.argtypes = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_long]
+libc.mprotect.argtypes = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int]
+PAGE, kept = mmap.PAGESIZE, []
+
+
+def guarded(a, after):
+    # a copy of a flush against an inaccessible page, after its last byte or before its first
+    n = max(a.nbytes, 1)
+    pages = (n + PAGE - 1) // PAGE + 2
+    base = libc.mmap(None, pages * PAGE, 3, 0x22, -1, 0)   # PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS
+    if after:
+        libc.mprotect(base + (pages - 1) * PAGE, PAGE, 0)
+        address = base + (pages - 1) * PAGE - n
+    else:
+        libc.mprotect(base, PAGE, 0)
+        address = base + PAGE
+    kept.append(base)
+    copy = np.frombuffer((ctypes.c_char * n).from_address(address), a.dtype, a.size).reshape(a.shape)
+    copy[...] = a
+    return copy
+
+
+c = _native.kernels("depthrefine.methods._wls_jit")
+rng = np.random.default_rng(7)
+lut = _color_lut(3, 6.0)
+for H, W in [(h, w) for h in (1, 2, 3) for w in range(1, 40)] + [(5, 301), (4, 130)]:
+    guide = rng.integers(0, 256, (H, W, 3), dtype=np.uint8)
+    h, w = -(-H // 2), -(-W // 2)
+    small = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+    x = rng.normal(0, 100, (h, w)).astype(np.float32)
+    planes = [np.ascontiguousarray(small[:, :, k]) for k in range(3)]
+    wx, wy, out = (np.zeros((H, W), np.float32) for _ in range(3))
+    c.color_weight_rows(guide, lut, wx, wy, 0, H)
+    c.enlarge_rows(x, *planes, guide, lut, out, 0, H)
+    for after in (True, False):
+        g = guarded(guide, after)
+        gx, gy, gout = (guarded(np.zeros((H, W), np.float32), after) for _ in range(3))
+        c.color_weight_rows(g, guarded(lut, after), gx, gy, 0, H)
+        c.enlarge_rows(guarded(x, after), *(guarded(p, after) for p in planes), g, lut, gout, 0, H)
+        assert gx.tobytes() == wx.tobytes() and gy.tobytes() == wy.tobytes() and gout.tobytes() == out.tobytes()
+print("ok")
+"""
+
+
+@needs_c
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="mmap and mprotect through ctypes: Linux")
+def test_the_vector_paths_read_and_write_nothing_beyond_their_arrays():
+    """The color weights' and the enlargement's eight-pixel steps, each array flush against a page that cannot be
+    read (after it, then before it): a read or write past an array would end the process; same bits as usual."""
+    done = subprocess.run([sys.executable, "-c", _GUARDED], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", (done.returncode, done.stderr[-2000:])
 
 
 @needs_c

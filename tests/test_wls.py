@@ -58,6 +58,38 @@ def test_guided_smooth_into_out_gives_the_same_bits_without_a_new_array():
         _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, out=src.astype(np.float64))
 
 
+def test_a_solve_in_place_refuses_memory_it_reads_and_leaves_out_alone_when_it_refuses():
+    """``out`` (or ``x``) may not be the weights a solve makes in this thread's scratch arrays, nor its guide: the
+    solve would write over what it reads. A refused call does not touch ``out``."""
+    guide, src = _scene(5)
+    shape = src.shape
+    with pytest.raises(ValueError, match="must not share memory"):
+        _wls.guided_smooth(src, guide, 6.0, 3.0, 40.0, out=_wls.scratch(shape)[0])
+    raw = np.zeros(4 * src.size, np.uint8)             # out and the guide in the same bytes
+    raw[: guide.size] = guide.ravel()
+    with pytest.raises(ValueError, match="must not share memory"):
+        _wls.guided_smooth(src, raw[: guide.size].reshape(guide.shape), 6.0, 3.0, 40.0,
+                           out=raw.view(np.float32).reshape(shape))
+    wx, wy = _wls.color_weights(guide, 6.0)
+    with pytest.raises(ValueError, match="must not share memory"):
+        _wls.smooth_with_gradient(_wls.scratch(shape)[1], wx, wy, 3.0, 40.0)
+    with pytest.raises(ValueError, match="must not share memory"):
+        _wls.smooth(src, wx, wy, 40.0, out=wy)
+    untouched = np.full(shape, -1.0, np.float32)
+    for bad in ({"sigma_color": 0.0}, {"lam": -1.0}, {"sigma": float("nan")}):
+        arguments = {"sigma_color": 6.0, "sigma": 3.0, "lam": 40.0, **bad}
+        with pytest.raises(ValueError):
+            _wls.guided_smooth(src, guide, arguments["sigma_color"], arguments["sigma"], arguments["lam"],
+                               out=untouched)
+    with pytest.raises(ValueError):
+        _wls.guided_smooth(src, guide[:-1], 6.0, 3.0, 40.0, out=untouched)
+    with pytest.raises(ValueError, match="finite"):
+        _wls.smooth(np.where(src > src.mean(), np.nan, src), wx, wy, 40.0, out=untouched)
+    with pytest.raises(ValueError, match="finite"):
+        _wls.smooth(src.astype(np.float64) * 1e300, wx, wy, 40.0, out=untouched)     # beyond float32
+    assert (untouched == -1.0).all()
+
+
 def test_color_weights_match_the_definition():
     guide, _ = _scene(1, (7, 9))
     wx, wy = _wls.color_weights(guide, 5.0)

@@ -53,9 +53,10 @@ MAX_DEPTH = 1e15
 
 
 def check_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
-    """Check that ``depth`` is a 2-D numeric array with at least one valid pixel."""
+    """Check that ``depth`` is a 2-D numeric array without values beyond :data:`MAX_DEPTH`."""
     if not isinstance(depth, np.ndarray):
         raise TypeError(f"{name} must be a numpy array; got {type(depth).__name__}.")
+    depth = np.asarray(depth)       # a masked array's or a matrix's values, as a plain array (no copy)
     if depth.ndim == 3 and depth.shape[2] == 1:
         depth = depth[:, :, 0]
     if depth.ndim != 2:
@@ -70,6 +71,9 @@ def check_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
         )
     if depth.shape[0] < 1 or depth.shape[1] < 1:
         raise ValueError(f"{name} is empty (shape {depth.shape}); give a non-empty depth map.")
+    largest = largest_beyond_limit(depth)
+    if largest is not None:
+        raise ValueError(too_deep_message(name, largest))
     return depth
 
 
@@ -78,12 +82,9 @@ def as_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
 
     Invalid: 0 (no measurement, any dtype), NaN, +-inf and negative values.
     The input is never modified. Raises ``ValueError`` if no pixel is valid,
-    or if a value exceeds :data:`MAX_DEPTH`.
+    or if a value exceeds :data:`MAX_DEPTH` (:func:`check_depth`).
     """
     depth = check_depth(depth, name)
-    largest = largest_beyond_limit(depth)
-    if largest is not None:
-        raise ValueError(too_deep_message(name, largest))
     out = depth.astype(np.float32, copy=True)
     with np.errstate(invalid="ignore"):
         out[~(np.isfinite(out) & (out > 0))] = np.nan
@@ -108,17 +109,24 @@ def largest_beyond_limit(depth: np.ndarray) -> float | None:
     >>> largest_beyond_limit(np.array([[1.0, np.inf, 3e17]])), largest_beyond_limit(np.array([[1.0, np.inf]]))
     (3e+17, None)
     """
-    if depth.dtype.kind != "f":      # integer depth tops out at int32's 2.1e9
+    values = np.asarray(depth)      # a masked array's or a matrix's values, as check_depth passes them on
+    if values.size == 0 or values.dtype.kind not in "fiu":
         return None
-    largest = np.max(depth, where=np.isfinite(depth), initial=-np.inf)
+    if values.dtype.kind == "f":
+        largest = np.max(values, where=np.isfinite(values), initial=-np.inf)
+    elif values.dtype.itemsize < 8:     # int32 and smaller top out at 2.1e9
+        return None
+    else:
+        largest = values.max()
     return float(largest) if largest > MAX_DEPTH else None
 
 
 def too_deep_message(name: str, largest: float) -> str:
     """The message for a depth map with values beyond :data:`MAX_DEPTH` (shared with :mod:`depthrefine.io`)."""
     return (
-        f"{name} holds depth values up to {largest:.3g}; depthrefine takes depth up to {MAX_DEPTH:.0e} (in any "
-        "unit). Give it in a larger unit, e.g. metres instead of millimetres."
+        f"{name} holds depth values up to {largest:.6g}; depthrefine takes depth up to {MAX_DEPTH:.0e} (in any "
+        "unit). Give it in a larger unit (e.g. metres instead of millimetres), and mark pixels without a "
+        "measurement with 0, NaN or inf rather than a large number."
     )
 
 

@@ -341,8 +341,8 @@ static inline void enlarge_pixel(float *restrict out_row, index_t c, index_t w, 
                  / (w_nn + w_nf + w_fn + w_ff);
 }
 
-/* One output row of dr_enlarge_rows: n near small rows' planes n0..n2 and values x_near, the far ones f0..f2,
- * x_far, the guide's row (W pixels of 3 channels). */
+/* One output row of dr_enlarge_rows: the near small row's planes n0..n2 and values x_near, the far one's f0..f2
+ * and x_far, the guide's row (W pixels of 3 channels). */
 static void enlarge_row(float *restrict out_row, index_t W, index_t w, const uint8_t *restrict row,
                         const uint8_t *restrict n0, const uint8_t *restrict n1, const uint8_t *restrict n2,
                         const uint8_t *restrict f0, const uint8_t *restrict f1, const uint8_t *restrict f2,
@@ -354,7 +354,7 @@ static void enlarge_row(float *restrict out_row, index_t W, index_t w, const uin
      * pixels are k = c0 / 2 + 0, 0, 1, 1, .., 3, 3 and their far ones k - 1 (even c) or k + 1 (odd c), all within
      * the eight small pixels from c0 / 2 - 1 on. Each lane does the loop's operations in its order and types. */
     if (W >= 16) {
-        for (; c < 8; c++)          /* the first eight: k - 1 clamped at 0 */
+        for (; c < 8; c++)          /* the first eight by the scalar path: a step reads from c / 2 - 1 on */
             enlarge_pixel(out_row, c, w, row, n0, n1, n2, f0, f1, f2, x_near, x_far, lut);
         const __m256i near_at = _mm256_setr_epi32(1, 1, 2, 2, 3, 3, 4, 4);
         const __m256i far_at = _mm256_setr_epi32(0, 2, 1, 3, 2, 4, 3, 5);
@@ -377,15 +377,10 @@ static void enlarge_row(float *restrict out_row, index_t W, index_t w, const uin
                 __m256 a_ff = _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_shuffle_epi8(pf, far_bytes)));
                 __m256 e_nn = _mm256_sub_ps(a_nn, b), e_nf = _mm256_sub_ps(a_nf, b);
                 __m256 e_fn = _mm256_sub_ps(a_fn, b), e_ff = _mm256_sub_ps(a_ff, b);
-                if (ch == 0) {
-                    d_nn = _mm256_mul_ps(e_nn, e_nn), d_nf = _mm256_mul_ps(e_nf, e_nf);
-                    d_fn = _mm256_mul_ps(e_fn, e_fn), d_ff = _mm256_mul_ps(e_ff, e_ff);
-                } else {
-                    d_nn = _mm256_add_ps(d_nn, _mm256_mul_ps(e_nn, e_nn));
-                    d_nf = _mm256_add_ps(d_nf, _mm256_mul_ps(e_nf, e_nf));
-                    d_fn = _mm256_add_ps(d_fn, _mm256_mul_ps(e_fn, e_fn));
-                    d_ff = _mm256_add_ps(d_ff, _mm256_mul_ps(e_ff, e_ff));
-                }
+                d_nn = _mm256_add_ps(d_nn, _mm256_mul_ps(e_nn, e_nn));  /* 0 + d0 * d0 is d0 * d0, a square */
+                d_nf = _mm256_add_ps(d_nf, _mm256_mul_ps(e_nf, e_nf));
+                d_fn = _mm256_add_ps(d_fn, _mm256_mul_ps(e_fn, e_fn));
+                d_ff = _mm256_add_ps(d_ff, _mm256_mul_ps(e_ff, e_ff));
             }
             __m256 w_nn = _mm256_mul_ps(nine, _mm256_add_ps(lut8(lut, d_nn), v_tiny));
             __m256 w_nf = _mm256_mul_ps(three, _mm256_add_ps(lut8(lut, d_nf), v_tiny));

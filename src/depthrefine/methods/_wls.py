@@ -223,34 +223,54 @@ def smooth(src: np.ndarray, wx: np.ndarray, wy: np.ndarray, lam: float, *, itera
     >>> bool(out[:, :3].max() < 1 and out[:, 3:].min() > 10)
     True
     """
-    u = _target(src, out)
-    if u.ndim != 2:
-        raise ValueError(f"src must be a 2-D array; got shape {u.shape}.")
-    wx, wy = _weights(u.shape, wx, wy)
+    src = np.asarray(src)
+    if src.ndim != 2:
+        raise ValueError(f"src must be a 2-D array; got shape {src.shape}.")
+    wx, wy = _weights(src.shape, wx, wy)
     lam = check_number("lam", lam, nonnegative=True, finite=False)
     iterations = check_int("iterations", iterations, minimum=1)
     attenuation = check_number("attenuation", attenuation, nonnegative=True)
+    if src.size:
+        for name, w in (("wx", wx), ("wy", wy)):
+            low = w.min()
+            if not low >= 0:
+                raise ValueError(f"{name} must be >= 0 everywhere, without NaN; got min {low}.")
+        _check_finite(src, "src")
+    u = _target(src, out, wx, wy)   # every check first: a refused call leaves out as it was
     if u.size == 0:
         return u
-    for name, w in (("wx", wx), ("wy", wy)):
-        low = w.min()
-        if not low >= 0:
-            raise ValueError(f"{name} must be >= 0 everywhere, without NaN; got min {low}.")
-    if not (np.isfinite(u.min()) and np.isfinite(u.max())):   # NaN propagates into min and max; no bool array
-        raise ValueError("src must be finite everywhere; got NaN or infinite values (fill them first).")
     return _solve(u, wx, wy, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation))
 
 
-def _target(src: np.ndarray, out: np.ndarray | None) -> np.ndarray:
-    """The float32 array a solve of ``src`` works in: a C-contiguous copy, or ``out`` holding ``src``'s values."""
+def _check_finite(values: np.ndarray, name: str) -> None:
+    """A ``ValueError`` unless ``values`` are finite, and within float32's range (the solve's type)."""
+    low, high = values.min(), values.max()      # NaN propagates into both; no bool array
+    if not (np.isfinite(low) and np.isfinite(high)) or max(-float(low), float(high)) > float(np.finfo(np.float32).max):
+        raise ValueError(f"{name} must be finite everywhere (float32); got NaN or infinite values (fill them first).")
+
+
+def _target(src: np.ndarray, out: np.ndarray | None, *apart: np.ndarray) -> np.ndarray:
+    """The float32 array a solve of ``src`` works in: a C-contiguous copy, or ``out`` holding ``src``'s values.
+
+    ``out`` must share no memory with ``apart`` (the weights the solve reads, its guide): a solve in place
+    would write over them as it reads them.
+    """
     if out is None:
         return np.array(src, dtype=np.float32, order="C")
     _check_in_place(out, "solved", "out")
     if np.shape(src) != out.shape:
         raise ValueError(f"out must have src's shape {np.shape(src)}; got {out.shape}.")
+    _check_apart(out, "out", *apart)
     if src is not out:
         np.copyto(out, src, casting="same_kind")
     return out
+
+
+def _check_apart(u: np.ndarray, name: str, *others: np.ndarray) -> None:
+    """A ``ValueError`` if ``u``, solved in place, shares memory with any of ``others``."""
+    if any(np.may_share_memory(u, other) for other in others):
+        raise ValueError(f"{name} must not share memory with the weights, the guide or this module's scratch arrays "
+                         "(scratch()): give it an array of its own.")
 
 
 #: Per thread: scratch arrays of the last shapes solved (:func:`_scratch`).
@@ -299,9 +319,9 @@ def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma:
     The same result as ``smooth(src, *edge_weights(guide, sigma_color, src,
     sigma), lam, ...)``, bit for bit, without handing out the weights: they
     are made in this thread's scratch arrays, so a call on the shape of the
-    previous one allocates only its result (nothing with ``out``, where it is
-    solved, as :func:`smooth`'s; ``src`` itself to solve in place). ``src``
-    must be finite (it is converted to float32).
+    previous one allocates only its result. With ``out`` (as :func:`smooth`'s:
+    ``src`` itself solves in place) it allocates nothing. ``src`` must be
+    finite (it is converted to float32).
 
     Examples
     --------
@@ -312,14 +332,15 @@ def guided_smooth(src: np.ndarray, guide: np.ndarray, sigma_color: float, sigma:
     True
     """
     guide = _guide(guide)
-    u = _target(src, out)
-    if u.shape != guide.shape[:2]:
-        raise ValueError(f"src must have the guide's shape {guide.shape[:2]}; got {u.shape}.")
+    src = np.asarray(src)
+    if src.shape != guide.shape[:2]:
+        raise ValueError(f"src must have the guide's shape {guide.shape[:2]}; got {src.shape}.")
     lut = _color_lut(guide.shape[2], check_number("sigma_color", sigma_color, positive=True))
-    sigma, lam32, iterations, attenuation32 = _solve_arguments(u, "src", sigma, lam, iterations, attenuation)
-    if u.size == 0:
-        return u
-    wx, wy = _scratch("weights", u.shape)
+    sigma, lam32, iterations, attenuation32 = _solve_arguments(src, "src", sigma, lam, iterations, attenuation)
+    if src.size == 0:
+        return _target(src, out)
+    wx, wy = _scratch("weights", src.shape)
+    u = _target(src, out, wx, wy, guide)     # every check first: a refused call leaves out as it was
     run_split(_kernels().edge_weight_rows, u.shape[0], guide, lut, u, np.float32(1.0 / sigma), wx, wy,
               parallel=_parallel(u.shape))
     return _solve(u, wx, wy, lam32, iterations, attenuation32)
@@ -333,8 +354,8 @@ def _solve_arguments(u: np.ndarray, name: str, sigma: float, lam: float, iterati
     lam = check_number("lam", lam, nonnegative=True, finite=False)
     iterations = check_int("iterations", iterations, minimum=1)
     attenuation = check_number("attenuation", attenuation, nonnegative=True)
-    if u.size and not (np.isfinite(u.min()) and np.isfinite(u.max())):
-        raise ValueError(f"{name} must be finite everywhere; got NaN or infinite values (fill them first).")
+    if u.size:
+        _check_finite(u, name)
     return sigma, np.float32(min(lam, MAX_COUPLING)), iterations, np.float32(attenuation)
 
 
@@ -363,6 +384,7 @@ def smooth_with_gradient(x: np.ndarray, wx: np.ndarray, wy: np.ndarray, sigma: f
     if x.size == 0:
         return x
     out_x, out_y = _scratch("weights", x.shape)
+    _check_apart(x, "x", out_x, out_y, wx, wy)
     run_split(_kernels().depth_weight_rows, x.shape[0], x, np.float32(1.0 / sigma), wx, wy, out_x, out_y,
               parallel=_parallel(x.shape))
     return _solve(x, out_x, out_y, lam32, iterations, attenuation32)
