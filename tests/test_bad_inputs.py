@@ -657,12 +657,15 @@ def test_invalid_float_values_are_holes():
     np.testing.assert_array_equal(thesis[:, 40:], 180)
 
 
-def test_masked_and_matrix_depth_are_their_values():
-    """A masked array or a matrix is taken as its plain values (as before the depth bound): refined as the array."""
+def test_a_masked_arrays_masked_pixels_are_holes_and_a_matrix_its_values():
+    """A masked array's masked pixels are no measurement (0), whatever value they hold; a matrix is its values."""
     depth, rgb = _two_region_scene()
     d = depth.astype(np.float32)
     plain = depthrefine.refine(d, rgb)
-    np.testing.assert_array_equal(depthrefine.refine(np.ma.masked_array(d, mask=d > 100), rgb), plain)
+    holes = d.copy()
+    holes[3:6, 4:9] = 0
+    masked = np.ma.masked_array(np.where(holes == 0, 1e30, d), mask=holes == 0)   # a placeholder under the mask
+    np.testing.assert_array_equal(depthrefine.refine(masked, rgb), depthrefine.refine(holes, rgb))
     with pytest.warns(PendingDeprecationWarning):
         matrix = np.matrix(d)
     np.testing.assert_array_equal(depthrefine.refine(matrix, rgb), plain)

@@ -56,7 +56,8 @@ def check_depth(depth: object, name: str = "depth_lr") -> np.ndarray:
     """Check that ``depth`` is a 2-D numeric array without values beyond :data:`MAX_DEPTH`."""
     if not isinstance(depth, np.ndarray):
         raise TypeError(f"{name} must be a numpy array; got {type(depth).__name__}.")
-    depth = np.asarray(depth)       # a masked array's or a matrix's values, as a plain array (no copy)
+    # a plain array: a masked array's masked pixels are no measurement (0), a matrix its values
+    depth = np.ma.filled(depth, 0) if isinstance(depth, np.ma.MaskedArray) else np.asarray(depth)
     if depth.ndim == 3 and depth.shape[2] == 1:
         depth = depth[:, :, 0]
     if depth.ndim != 2:
@@ -109,7 +110,7 @@ def largest_beyond_limit(depth: np.ndarray) -> float | None:
     >>> largest_beyond_limit(np.array([[1.0, np.inf, 3e17]])), largest_beyond_limit(np.array([[1.0, np.inf]]))
     (3e+17, None)
     """
-    values = np.asarray(depth)      # a masked array's or a matrix's values, as check_depth passes them on
+    values = np.asarray(depth)      # as check_depth passes a matrix on
     if values.size == 0 or values.dtype.kind not in "fiu":
         return None
     if values.dtype.kind == "f":
