@@ -73,12 +73,18 @@ def enclosed_holes(depth: np.ndarray) -> np.ndarray:
     reach = ENCLOSED_REACH * max(depth.shape)
     rows = np.asarray(depth)
     values = _rays(rows, reach)                              # the depth seen each way, NaN beyond reach
+    complete = np.isfinite(values).all(axis=0)
     with np.errstate(invalid="ignore"):
-        complete = np.isfinite(values).all(axis=0)
-        low, high, middle = _range_and_median(values)
-        one_surface = (high - low) <= ENCLOSED_SPREAD * np.abs(middle)
+        low, high, middle = _range_and_median(values)        # in the memory of values but one map
+        del values
+        spread = np.subtract(high, low, out=high)
+        one_surface = spread <= np.multiply(np.abs(middle, out=low), ENCLOSED_SPREAD, out=low)
+        del low, high, spread
     enclosed = invalid & complete & one_surface
-    return _without_lines(invalid, enclosed | _slivers(depth, enclosed, np.where(enclosed, middle, depth)))
+    del complete, one_surface
+    surface = np.where(enclosed, middle, depth)
+    del middle      # (the rays' memory goes: the peak of a large input's step 1, docs/speed.md)
+    return _without_lines(invalid, enclosed | _slivers(depth, enclosed, surface))
 
 
 def _range_and_median(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -88,14 +94,19 @@ def _range_and_median(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
     pairs' minima and the smaller of their maxima: ``np.median``'s bits (it
     adds the two middle values and halves the sum in their type) without its
     sort of every pixel's four values. Where one is NaN the figures are
-    undefined.
+    undefined. ``values`` is overwritten: the maximum and the median are
+    views of it, the minimum is the one new map.
     """
-    low_01, high_01 = np.minimum(values[0], values[1]), np.maximum(values[0], values[1])
-    low_23, high_23 = np.minimum(values[2], values[3]), np.maximum(values[2], values[3])
-    middle = np.maximum(low_01, low_23)
-    middle += np.minimum(high_01, high_23)
+    v0, v1, v2, v3 = values
+    low = np.minimum(v0, v1)
+    np.maximum(v0, v1, out=v1)              # v1: the first pair's maximum
+    np.minimum(v2, v3, out=v0)              # v0: the second pair's minimum
+    np.maximum(v2, v3, out=v3)              # v3: its maximum
+    middle = np.maximum(low, v0, out=v2)    # the larger minimum ...
+    np.minimum(low, v0, out=low)
+    middle += np.minimum(v1, v3, out=v0)    # ... plus the smaller maximum
     middle /= 2
-    return np.minimum(low_01, low_23, out=low_01), np.maximum(high_01, high_23, out=high_01), middle
+    return low, np.maximum(v1, v3, out=v1), middle
 
 
 def _without_lines(invalid: np.ndarray, enclosed: np.ndarray) -> np.ndarray:
@@ -146,8 +157,9 @@ def _slivers(depth: np.ndarray, enclosed: np.ndarray, surface: np.ndarray) -> np
         return np.zeros_like(rest)
     known = np.isfinite(surface)
     window = np.ones((2 * SLIVER_REACH + 1,) * 2, np.uint8)
-    low = cv2.erode(np.where(known, surface, np.inf).astype(np.float32), window, borderType=cv2.BORDER_REPLICATE)
-    high = cv2.dilate(np.where(known, surface, -np.inf).astype(np.float32), window,
+    low = cv2.erode(np.where(known, surface, np.inf).astype(np.float32, copy=False), window,
+                    borderType=cv2.BORDER_REPLICATE)
+    high = cv2.dilate(np.where(known, surface, -np.inf).astype(np.float32, copy=False), window,
                       borderType=cv2.BORDER_REPLICATE)
     with np.errstate(invalid="ignore"):
         one_surface = np.isfinite(low) & ((high - low) <= ENCLOSED_SPREAD * np.abs(high))   # finite: known ones near
