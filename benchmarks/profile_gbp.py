@@ -223,9 +223,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--method", default="gbp")
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--inputs", default="thesis,art4", help=f"comma-separated, of {sorted(SHORT)}")
-    ap.add_argument("--cpu", action="store_true", help="one thread; CPU seconds of that thread")
-    ap.add_argument("--memory", action="store_true", help="the peak memory per step instead of the time")
-    ap.add_argument("--faults", action="store_true", help="minor page faults per step instead of the time")
+    measure = ap.add_mutually_exclusive_group()
+    measure.add_argument("--cpu", action="store_true", help="one thread; CPU seconds of that thread")
+    measure.add_argument("--memory", action="store_true", help="the peak memory per step instead of the time")
+    measure.add_argument("--faults", action="store_true", help="minor page faults per step instead of the time")
     args = ap.parse_args(argv)
     if args.memory:
         for short in args.inputs.split(","):

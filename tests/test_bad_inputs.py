@@ -204,7 +204,8 @@ def _too_deep(ws: Workspace, name: str, data: np.ndarray) -> Case:
     path = ws.file(name, data)
     rgb = _color_u8()
     return Case(ws.refine(path, None), [str(path), "holds depth values up to", "in a larger unit"],
-                lib=lambda: depthrefine.refine(data, rgb, method="thesis"), lib_subject=("depth_lr", f"depth file {path}"))
+                lib=lambda: depthrefine.refine(data, rgb, method="thesis"),
+                lib_subject=("depth_lr", f"depth file {path}"))
 
 
 def _params_case(ws: Workspace, text: str, expect: list[str], *, name="params.toml", mapping=None) -> Case:
